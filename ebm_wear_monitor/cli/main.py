@@ -1,2 +1,65 @@
-def main():
-    print("x")
+"""``ebm-wear``: the command-line front door.
+
+Each subcommand lives in its own module ``ebm_wear_monitor.cli.<name>`` with
+``add_arguments(parser)`` and ``run(args) -> int``; modules are imported only
+when their subcommand runs, so ``ebm-wear calc`` never pays for Dask or rclpy.
+Bad input (:class:`~ebm_wear_monitor.errors.InputError`) becomes one line on
+stderr and exit status 2 (interface.md section 5).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+from types import ModuleType
+
+from ebm_wear_monitor import __version__
+from ebm_wear_monitor.errors import InputError
+
+#: subcommand (= module under ebm_wear_monitor.cli) -> one-line help
+SUBCOMMANDS: dict[str, str] = {
+    "demo": "run a sample bag from bags/ through the monitor and write a report (the embedded default)",
+    "replay": "run the monitor core over recorded rosbag2 bags, offline",
+    "fleet": "the fleet pipeline over many units' bags, on Dask",
+    "diagnose": "sim-to-real gap diagnosis of recorded data against the digital twin",
+    "simulate": "the digital twin of the actuator writing a rosbag2 bag",
+    "calc": "calculators: ball contact, wear rate, actuator torques",
+}
+
+
+def _load(name: str) -> ModuleType:
+    return importlib.import_module(f"ebm_wear_monitor.cli.{name}")
+
+
+def build_parser(argv: Sequence[str]) -> argparse.ArgumentParser:
+    """Parser with every subcommand; only the one named in ``argv`` gets its full arguments."""
+    parser = argparse.ArgumentParser(
+        prog="ebm-wear", description="Ball-screw wear monitor for railway EMB units (SI units throughout).")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    chosen = next((a for a in argv if not a.startswith("-")), None)
+    for name, help_text in SUBCOMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        if name == chosen:
+            _load(name).add_arguments(p)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``ebm-wear``; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser(argv).parse_args(argv)
+    try:
+        return int(_load(args.command).run(args) or 0)
+    except InputError as exc:
+        print(f"ebm-wear {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"ebm-wear {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
