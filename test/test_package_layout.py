@@ -37,7 +37,7 @@ def test_console_scripts_are_installed_and_answer() -> None:
         assert (bindir / script).is_file(), script
     out = subprocess.run([bindir / "ebm-wear", "--help"], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0
-    for command in ("replay", "fleet", "diagnose", "simulate", "calc", "demo"):
+    for command in ("replay", "fleet", "diagnose", "simulate", "calc"):
         assert command in out.stdout
 
 

@@ -20,7 +20,6 @@ from ebm_wear_monitor.errors import InputError
 
 #: subcommand (= module under ebm_wear_monitor.cli) -> one-line help
 SUBCOMMANDS: dict[str, str] = {
-    "demo": "run a sample bag from bags/ through the monitor and write a report (the embedded default)",
     "replay": "run the monitor core over recorded rosbag2 bags, offline",
     "fleet": "the fleet pipeline over many units' bags, on Dask",
     "diagnose": "sim-to-real gap diagnosis of recorded data against the digital twin",
