@@ -103,6 +103,9 @@ class Motor:
     resistance: float  # R [ohm]
     inductance: float  # L [H]
     inertia: float  # J_m, rotor inertia [kg m^2]
+    # T_c, continuous stall torque (004 eq. 17) [N m]; 004 does not print it: the default is the
+    # value its 37.30 kN friction-free maximum clamp force implies (build/notes/twin.md)
+    continuous_stall_torque: float = 2.939
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,8 @@ class Actuator:
     clearance: float  # x_ag, nominal brake clearance [m]
     stiffness: float  # K_b, clamp stiffness (004 eq. 6) [N/m]
     friction: Friction
+    supply_voltage: float = 48.0  # E_amax, peak armature voltage of the drive (004 eq. 11) [V]
+    current_limit: float = 8.0  # armature current limit of the drive [A]
 
 
 @dataclass(frozen=True)
@@ -247,13 +252,16 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
         actuator = Actuator(
             motor=_build(Motor, _section(act, "motor", wa), f"{wa}.motor", {
                 "torque_constant": {}, "back_emf_constant": {}, "resistance": {},
-                "inductance": {}, "inertia": {}}),
+                "inductance": {}, "inertia": {},
+                "continuous_stall_torque": {"required": False, "default": Motor.continuous_stall_torque}}),
             friction=_build(Friction, _section(act, "friction", wa), f"{wa}.friction", {
                 "static": {"positive": False, "lo": -1e-300}, "coulomb": {"positive": False, "lo": -1e-300},
                 "viscous": {"positive": False, "lo": -1e-300},
                 "load_coefficient": {"positive": False, "lo": -1e-300}}),
             **{k: _number(act, k, wa) for k in (
                 "gear_ratio", "screw_inertia", "gear_inertia", "nut_mass", "clearance", "stiffness")},
+            **{k: _number(act, k, wa, required=False, default=getattr(Actuator, k))
+               for k in ("supply_voltage", "current_limit")},
         )
 
     mon = data.get("monitor") or {}
