@@ -1,0 +1,176 @@
+"""A bag player for the input topics: publishes a bag's samples with the bag's header stamps.
+
+``ros2 bag play`` is not available as a wheel, and it restamps nothing anyway;
+this player reads the input topics of interface.md section 2 with
+:func:`ebm_wear_monitor.bagio.read_bags` and publishes each sample as one
+``ebm_wear_msgs/msg/Float64Stamped`` carrying its recorded ``header.stamp``,
+serialised in bulk (``bagio.cdr``) and published as raw CDR bytes, so the
+player costs little beside the node it feeds (tests, benchmark).
+
+Order and pacing: the reader gives each signal in recording order. The
+signals are merged on an "unrolled" time key: the header stamp plus every
+backward jump seen so far in that signal (a bag played in a loop, or a late
+sample), so the merge keeps each signal's own order, interleaves the signals
+as they were sampled and never races ahead through a loop. With ``speed > 0``
+a sample is published at ``t0 + key / speed`` (``speed = 1``: real time);
+``speed = 0`` publishes as fast as the middleware allows.
+
+Command line (``python -m ebm_wear_monitor.ros.player BAG... [--speed S] ...``)::
+
+    --namespace NS     publish the bag's (only) unit under NS instead of its own namespace
+    --speed S          multiple of real time; 0 = as fast as possible (default 1)
+    --reliable         reliable, keep-all QoS (default: best effort, the sensor-data profile)
+    --subscribers N    wait until every input topic has N subscribers before starting (default 1)
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import rclpy
+from rclpy.node import Node
+from rclpy.publisher import Publisher
+
+from ebm_wear_monitor.bagio.cdr import encode_float64_stamped
+from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.ros.qos import input_qos
+
+
+def unrolled_time(stamps: np.ndarray) -> np.ndarray:
+    """Non-decreasing time key of one signal [s]: each backward jump of the stamps is added back.
+
+    ``key_i = t_i + sum_{j <= i} max(0, t_{j-1} - t_j)``, so ``key`` never decreases
+    and equals ``t`` for a well-ordered signal.
+    """
+    stamps = np.asarray(stamps, dtype=np.float64)
+    back = np.maximum(0.0, -np.diff(stamps, prepend=stamps[:1]))
+    return stamps + np.cumsum(back)
+
+
+def publish_order(signals: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """Merge order of several signals: (signal index per message, time key [s] per message), sorted by key.
+
+    Each signal keeps its own recording order (its keys never decrease and the sort is stable).
+    """
+    keys = [unrolled_time(stamps) for stamps, _ in signals.values()]
+    which = np.concatenate([np.full(len(k), i) for i, k in enumerate(keys)] or [np.empty(0, int)])
+    key = np.concatenate(keys or [np.empty(0)])
+    order = np.argsort(key, kind="stable")
+    return which[order], key[order] - (key[order][0] if len(key) else 0.0)
+
+
+class Player:
+    """Publishes per-signal (stamps [s], values) arrays on ``<namespace>/<input topic>``."""
+
+    def __init__(self, node: Node, namespace: str, signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                 reliable: bool = False) -> None:
+        unknown = set(signals) - set(INPUT_TOPICS)
+        if unknown:
+            raise InputError(f"unknown signals {sorted(unknown)}; use {', '.join(INPUT_TOPICS)}")
+        ns = "/" + namespace.strip("/")
+        qos = input_qos(reliable, 1000, keep_all=True)
+        self._node = node
+        self.publishers: list[Publisher] = [
+            node.create_publisher(_float64_stamped(), f"{ns.rstrip('/')}/{INPUT_TOPICS[s]}", qos)
+            for s in signals]
+        self._which, self._key = publish_order(signals)
+        per_signal = [encode_float64_stamped(st, v) for st, v in signals.values()]
+        position = np.zeros(len(per_signal), dtype=np.int64)
+        self._records: list[bytes] = []
+        for w in self._which.tolist():
+            self._records.append(per_signal[w][position[w]])
+            position[w] += 1
+
+    def wait_for_subscribers(self, count: int, timeout_s: float) -> bool:
+        """Wait until every topic has ``count`` matched subscriptions (discovery, 60-250 ms here)."""
+        deadline = time.monotonic() + timeout_s
+        while min((p.get_subscription_count() for p in self.publishers), default=count) < count:
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.01)
+        return True
+
+    def play(self, speed: float = 1.0) -> int:
+        """Publish every sample (paced at ``speed`` x real time, or unpaced when 0); returns the count."""
+        pubs = [p.publish for p in self.publishers]
+        which = self._which.tolist()
+        start = time.monotonic()
+        due = self._key / speed if speed > 0 else None
+        i, n = 0, len(which)
+        while i < n:
+            if due is None:
+                end = n
+            else:
+                end = int(np.searchsorted(due, time.monotonic() - start, side="right"))
+                if end <= i:
+                    time.sleep(min(0.001, max(0.0, due[i] - (time.monotonic() - start))))
+                    continue
+            for k in range(i, end):
+                pubs[which[k]](self._records[k])
+            i = end
+        return n
+
+    def wait_for_delivery(self, timeout_s: float) -> None:
+        """Keep the writers alive until delivery completes (reliable: acknowledged; best effort: 0.3 s)."""
+        time.sleep(0.3)  # best-effort writers send asynchronously: exiting at once drops the tail
+        for p in self.publishers:
+            p.wait_for_all_acked(rclpy.duration.Duration(seconds=timeout_s))
+
+
+def _float64_stamped() -> type:
+    from ebm_wear_msgs.msg import Float64Stamped
+    return Float64Stamped
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m ebm_wear_monitor.ros.player",
+                                description="publish the input topics of bags with their header stamps")
+    p.add_argument("bags", nargs="+", help="rosbag2 bag directories")
+    p.add_argument("--namespace", help="publish the bag's only unit under this namespace")
+    p.add_argument("--speed", type=float, default=1.0, help="multiple of real time; 0 = as fast as possible")
+    p.add_argument("--reliable", action="store_true", help="reliable keep-all QoS instead of best effort")
+    p.add_argument("--subscribers", type=int, default=1, help="subscribers to wait for on every topic")
+    p.add_argument("--wait-timeout", type=float, default=30.0, help="seconds to wait for subscribers")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point: play bags; exit 2 with one line on bad input."""
+    args = _parser().parse_args(argv)
+    from ebm_wear_monitor.bagio.reader import read_bags
+    try:
+        recording = read_bags(args.bags)
+        if args.namespace and len(recording.units) != 1:
+            raise InputError(f"--namespace needs a bag with one unit, found {len(recording.units)}")
+        if args.speed < 0:
+            raise InputError("--speed must be >= 0")
+    except InputError as exc:
+        print(f"ebm-wear-player: error: {exc}", file=sys.stderr)
+        return 2
+    rclpy.init()
+    node = rclpy.create_node("bag_player")
+    try:
+        players = [Player(node, args.namespace or unit,
+                          {s: (sig.stamps, sig.values) for s, sig in data.signals.items()}, args.reliable)
+                   for unit, data in recording.units.items()]
+        for player in players:
+            if not player.wait_for_subscribers(args.subscribers, args.wait_timeout):
+                print("ebm-wear-player: error: no subscriber appeared", file=sys.stderr)
+                return 1
+        total = sum(player.play(args.speed) for player in players)
+        for player in players:
+            player.wait_for_delivery(10.0)
+        print(f"published {total}", flush=True)
+        return 0
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

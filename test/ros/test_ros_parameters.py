@@ -1,0 +1,86 @@
+"""Parameters, shipped config files and diagnostic levels of the node (in-process, no DDS traffic)."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import pytest
+import yaml
+
+from ebm_wear_monitor.ros import diagnostics as diag
+from ebm_wear_monitor.ros.parameters import (
+    AGGREGATOR_CONFIG_NAME,
+    SPECS,
+    check_value,
+    node_state_dir,
+    shipped_config_path,
+)
+
+
+def test_shipped_yaml_lists_every_parameter_with_the_declared_default() -> None:
+    data = yaml.safe_load(shipped_config_path().read_text())
+    params = data["/**"]["ros__parameters"]
+    assert set(params) == {s.name for s in SPECS}
+    for spec in SPECS:
+        assert params[spec.name] == spec.default, spec.name
+        assert type(params[spec.name]) is type(spec.default), spec.name  # ROS rejects int for double
+        assert check_value(spec.name, spec.default) is None
+
+
+@pytest.mark.parametrize(("name", "value"), [
+    ("process_rate_hz", 0.0), ("process_rate_hz", math.inf), ("process_rate_hz", "fast"),
+    ("qos_depth", 0), ("qos_depth", 2.5), ("executor", "multi_threaded"), ("wear_method", 3),
+    ("clearance_warn_fraction", 1.5), ("checkpoint_every_cycles", True),
+])
+def test_out_of_range_or_wrong_type_values_are_rejected_with_the_name(name: str, value: object) -> None:
+    reason = check_value(name, value)
+    assert reason is not None and reason.startswith(name)
+
+
+def test_state_dirs_of_different_nodes_never_coincide() -> None:
+    env = {"XDG_STATE_HOME": "/s", "HOME": "/h"}
+    names = ["/embu/wear_monitor", "/a_b/c/wear_monitor", "/a/b_c/wear_monitor", "/a/b/c_wear_monitor"]
+    dirs = [node_state_dir(n, env) for n in names]
+    assert len(set(dirs)) == len(names)
+    assert all(str(d).startswith("/s/ebm_wear_monitor/") for d in dirs)
+    assert node_state_dir("/embu/wear_monitor", {"HOME": "/h"}).parts[:4] == ("/", "h", ".local", "state")
+
+
+def test_aggregator_config_groups_train_car_embu_namespaces() -> None:
+    data = yaml.safe_load(shipped_config_path(AGGREGATOR_CONFIG_NAME).read_text())
+    analyzers = data["analyzers"]["ros__parameters"]
+    by_train = re.compile(analyzers["wear_by_train"]["regex"][0])
+    other = re.compile(analyzers["wear_other"]["regex"][0])
+    assert by_train.match("/train7/car3/embu2/wear_monitor")
+    assert not by_train.match("/embu/wear_monitor") and other.match("/embu/wear_monitor")
+    assert not other.match("/train7/car3/embu2/wear_monitor")
+    assert diag.namespace_parts("/train7/car3/embu2") == {"train": "train7", "car": "car3", "embu": "embu2"}
+    assert diag.namespace_parts("/embu") == {"embu": "embu"}
+
+
+THRESH = diag.Thresholds(stale_timeout_s=1.0, min_input_rate_hz=50.0, clearance_warn_fraction=0.8,
+                         remaining_cycles_warn=1e4)
+
+
+def _health(**kw) -> diag.Health:
+    base = dict(clearance_estimate_m=0.2e-3, clearance_limit_m=0.5e-3, cycles_p05=1e6,
+                input_rate_hz={"angle": 1000.0}, input_age_s={"angle": 0.01}, new_faults=0)
+    return diag.Health(**(base | kw))
+
+
+@pytest.mark.parametrize(("kw", "level"), [
+    ({}, diag.OK),
+    ({"input_age_s": {"angle": math.inf}}, diag.STALE),
+    ({"input_age_s": {"angle": 2.0}}, diag.STALE),
+    ({"clearance_estimate_m": 0.5e-3}, diag.ERROR),
+    ({"core_error": "boom"}, diag.ERROR),
+    ({"clearance_estimate_m": 0.45e-3}, diag.WARN),
+    ({"cycles_p05": 10.0}, diag.WARN),
+    ({"input_rate_hz": {"angle": 10.0}}, diag.WARN),
+    ({"new_faults": 3}, diag.WARN),
+    ({"cycles_p05": math.nan, "clearance_estimate_m": math.nan}, diag.OK),  # insufficient data is no fault
+])
+def test_levels_follow_the_documented_rules(kw: dict, level: bytes) -> None:
+    got, message = diag.assess(_health(**kw), THRESH)
+    assert got == level, message
