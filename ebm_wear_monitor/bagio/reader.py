@@ -162,15 +162,24 @@ def _read_bag(path: Path, rejected: dict[str, str], progress: Callable[[int], ob
         reader.close()
 
 
-def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], object] | None = None
-              ) -> Recording:
+def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], object] | None = None,
+              failed: dict[str, str] | None = None) -> Recording:
     """Read the input topics of ``paths`` (rosbag2 directories or .mcap/.db3 files) per unit.
 
     Bags are concatenated per unit in order of their first message. ``progress(n)``
-    is called after every block of ``n`` messages (e.g. ``tqdm.update``).
+    is called after every block of ``n`` messages (e.g. ``tqdm.update``). Without
+    ``failed`` the first bad bag raises :class:`InputError`; with it, bad bags are
+    skipped and their one-line reasons stored in ``failed[str(path)]``.
     """
     recording = Recording()
-    bags = [_read_bag(Path(p), recording.rejected, progress) for p in paths]
+    bags = []
+    for p in paths:
+        try:
+            bags.append(_read_bag(Path(p), recording.rejected, progress))
+        except InputError as exc:
+            if failed is None:
+                raise
+            failed[str(p)] = str(exc)
     bags.sort(key=lambda b: b.start_ns)
     keys = sorted({k for b in bags for k in b.chunks})
     for unit in sorted({u for u, _ in keys}):

@@ -220,3 +220,13 @@ def test_writer_refuses_existing_and_leaves_nothing_on_bad_input(tmp_path):
         write_unit_bag(tmp_path / "new", t, {"/e": {"angle": t}}, storage="rosbag1")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]
     assert read_ground_truth(tmp_path / "bag-none") is None
+
+
+def test_bad_bags_can_be_collected_instead_of_raised(tmp_path):
+    t = np.arange(0, 1.0, 0.01)
+    write_unit_bag(tmp_path / "good", t, {"/embu": _signals(t)})
+    failed: dict[str, str] = {}
+    rec = read_bags([tmp_path / "good", tmp_path / "missing"], failed=failed)
+    assert rec.messages == 4 * len(t)
+    assert list(failed) == [str(tmp_path / "missing")]
+    assert "no such bag" in failed[str(tmp_path / "missing")]
