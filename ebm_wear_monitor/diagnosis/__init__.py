@@ -1,0 +1,17 @@
+"""Sim-to-real gap diagnosis: where the twin of 004 misses, which unmodelled effect explains it, how far.
+
+Public API::
+
+    from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_topics, Recording
+    result = diagnose_recording(recording, unit)   # dict, interface.md section 4
+
+Modules: :mod:`.recording` (signals on one time base), :mod:`.phases` (phase and
+cycle labels), :mod:`.noise` (measured noise), :mod:`.residuals` (re-anchored
+torque and force residuals), :mod:`.catalog` (effects), :mod:`.ranking`
+(held-out fit, ranking, verdict), :mod:`.where`, :mod:`.pipeline`.
+"""
+
+from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
+from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_topics
+
+__all__ = ["Recording", "diagnose_recording", "recording_from_topics"]

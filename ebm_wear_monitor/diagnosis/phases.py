@@ -1,0 +1,106 @@
+"""Phase labels and brake-cycle index of recorded data, derived from the signals alone.
+
+The four phases of a brake application are those of 000 Fig. 2 (interface.md
+section 4): ``clearance_elimination`` (screw turns in the apply direction, no
+clamp force yet: 004 eq. 5 with x <= x_ag), ``force_generation`` (apply
+direction, force rising, x > x_ag), ``force_maintenance`` (screw at rest,
+force held: the stick branch of 004 eq. 9) and ``force_release`` (screw turns
+back).  Samples at rest without force are ``idle`` (between applications).
+
+Recordings carry no phase topic, so the labels are derived here with a small
+rule on the smoothed velocity v and force F (a moving average over
+``smooth_s``, 10 ms by default):
+
+* moving forward if v > eps_v, backward if v < -eps_v, at rest otherwise;
+* in contact if F > F_on;
+* eps_v = max(5 sigma_v / sqrt(w), 0.02 * P99(|v|)) and
+  F_on = max(5 sigma_F / sqrt(w), 0.02 * P99(F)), with sigma the measured
+  noise (:func:`.noise.signal_noise`), w the smoothing window in samples and
+  P99 the 99th percentile: five standard deviations of the smoothed noise, or
+  2 % of the signal's range when the noise is smaller than that;
+* runs shorter than ``min_run_s`` (20 ms) are merged into the run before them
+  (controller dither in force maintenance would otherwise flicker the label).
+
+A new brake cycle starts at each ``clearance_elimination`` run that follows a
+``force_release`` run.  (The monitor core has its own duty-cycle detector for
+the wear summaries; this rule needs only the four input signals and is used
+by the diagnosis so that it does not depend on the monitor's internals.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import uniform_filter1d
+
+from ebm_wear_monitor.diagnosis.noise import signal_noise
+from ebm_wear_monitor.diagnosis.recording import Recording
+
+PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
+IDLE = -1
+CLEARANCE, GENERATION, MAINTENANCE, RELEASE = range(4)
+
+
+def phase_name(code: int) -> str:
+    """Name of a phase code (``idle`` for -1)."""
+    return "idle" if code == IDLE else PHASES[code]
+
+
+@dataclass(frozen=True)
+class Segmentation:
+    """Per-sample phase code (-1 idle, 0..3 as :data:`PHASES`) and brake-cycle index (0-based)."""
+
+    phase: np.ndarray  # int8 per sample
+    cycle: np.ndarray  # int32 per sample
+    eps_velocity: float  # rest band of the screw velocity [rad/s]
+    force_on: float  # contact threshold of the axial force [N]
+
+    @property
+    def n_cycles(self) -> int:
+        return int(self.cycle.max()) + 1 if self.cycle.size else 0
+
+
+def _runs(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start indices and lengths of runs of equal values."""
+    starts = np.flatnonzero(np.concatenate(([True], code[1:] != code[:-1])))
+    lengths = np.diff(np.append(starts, code.size))
+    return starts, lengths
+
+
+def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> Segmentation:
+    """Phase code and cycle index per sample by the rule of the module docstring."""
+    w = max(1, round(smooth_s / rec.dt))
+    v = uniform_filter1d(rec.velocity, w, mode="nearest")
+    f = uniform_filter1d(rec.axial_force, w, mode="nearest")
+    eps_v = max(5.0 * signal_noise(rec.velocity) / np.sqrt(w), 0.02 * np.percentile(np.abs(v), 99))
+    f_on = max(5.0 * signal_noise(rec.axial_force) / np.sqrt(w), 0.02 * np.percentile(f, 99))
+    contact = f > f_on
+    phase = np.full(rec.t.size, IDLE, dtype=np.int8)
+    phase[(v > eps_v) & ~contact] = CLEARANCE
+    phase[(v > eps_v) & contact] = GENERATION
+    phase[(np.abs(v) <= eps_v) & contact] = MAINTENANCE
+    phase[v < -eps_v] = RELEASE
+
+    # merge short runs into the run before them
+    min_run = max(1, round(min_run_s / rec.dt))
+    starts, lengths = _runs(phase)
+    codes = phase[starts].copy()
+    for i in range(1, codes.size):
+        if lengths[i] < min_run:
+            codes[i] = codes[i - 1]
+    phase = np.repeat(codes, lengths)
+
+    # cycle boundaries: a clearance-elimination run after a release run
+    starts, lengths = _runs(phase)
+    codes = phase[starts]
+    new_cycle = np.zeros(codes.size, dtype=bool)
+    released = False
+    for i, c in enumerate(codes):
+        if c == RELEASE:
+            released = True
+        elif c == CLEARANCE and released:
+            new_cycle[i] = True
+            released = False
+    cycle = np.repeat(np.cumsum(new_cycle), lengths).astype(np.int32)
+    return Segmentation(phase, cycle, float(eps_v), float(f_on))

@@ -1,0 +1,307 @@
+"""Which effect: fit on calibration cycles, judge on held-out cycles, rank, decide, flag near-ties.
+
+**Split by cycle.**  Brake cycles (see :mod:`.phases`) alternate: even cycles
+calibrate, odd cycles are held out.  Interleaving puts early and late cycles,
+and the whole range of demands, on both sides; a held-out cycle never
+contributes to any fit.  At least four cycles are needed (two held out).
+
+**Normalised residuals.**  Each block gives a torque residual R_T and a force
+residual R_F (:mod:`.residuals`), divided by their measured block noise
+(:func:`.noise.series_noise`; the torque noise from moving blocks, where the
+dead-zone of the stick branch does not hide it): z = R / sigma.
+
+**Fit.**  An effect's parameters theta minimise sum z(theta)^2 over the
+calibration blocks (bounded Gauss-Newton, ``scipy.optimize.least_squares``;
+most effects are linear in theta so one step solves them).  Their uncertainty
+is the cluster-robust (sandwich) covariance with brake cycles as clusters,
+(J'J)^-1 (sum_c J_c' z_c z_c' J_c) (J'J)^-1, which stays honest when
+residuals within a cycle are correlated.
+
+**Held-out gap.**  ``metric`` = ``excess_rms_over_noise``: over the held-out
+blocks, gap = sqrt(max(mean(z^2) - 1, 0)), the RMS model error in units of the
+noise (noise alone gives mean(z^2) = 1 and gap 0).  Torque rows of blocks at
+rest are left out of the gap (not of the fit): inside the stick band their
+dead-zone residual is exactly zero and would pull mean(z^2) below the noise.  ``gap_before`` is the
+nominal twin's, ``gap_after`` the twin's with the fitted effect.
+
+**Score** (ranking) = (S_before - S_after - 2k) / S_before, with S the held-out
+sum of z^2 and k the effect's number of parameters: the share of the held-out
+squared residual the effect removes, less an Akaike penalty of 2 per parameter.
+
+**Verdict.**  Per held-out cycle c, the relative improvement
+r_c = (S_before,c - S_after,c) / S_before,c.  Under "the effect is absent",
+parameters fitted on other cycles cannot lower the held-out residual on
+average (E r_c <= 0).  The top effect is declared when a one-sided t-test of
+mean(r_c) > 0 over the held-out cycles has p < 0.05 / K (Bonferroni over the K
+effects tried); otherwise the verdict is ``none``: the twin already explains
+the data within its noise.  Cycles are the independent units of the test
+(residuals within a cycle may be correlated); relative improvements make
+cycles of different force and length comparable.  No threshold on the gap
+size is involved.
+
+**Near-ties.**  An effect whose r_c do not differ from the top effect's by a
+paired two-sided t-test at p < 0.05 is reported as tied, with the operating
+range (speed, force) where the two fitted models differ most in noise units
+(:func:`separating_experiment`): the experiment that would separate them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, stats
+
+from ebm_wear_monitor.diagnosis.catalog import Effect
+from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.residuals import (
+    NOMINAL,
+    Augment,
+    Nominal,
+    ResidualModel,
+    force_from_travel,
+    kinetic_friction,
+)
+from ebm_wear_monitor.errors import InputError
+
+ALPHA = 0.05  # family-wise error rate of the verdict
+TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
+METRIC = "excess_rms_over_noise"
+
+
+@dataclass(frozen=True)
+class Split:
+    """Calibration / held-out assignment of blocks by brake cycle (even / odd)."""
+
+    calibration: np.ndarray  # bool per block
+    heldout: np.ndarray  # bool per block
+    heldout_cycles: np.ndarray  # cycle indices held out
+
+
+def split_by_cycle(cycle: np.ndarray) -> Split:
+    """Even cycles calibrate, odd cycles are held out (module docstring)."""
+    cycles = np.unique(cycle)
+    if cycles.size < 4:
+        raise InputError(f"only {cycles.size} brake cycle(s) found; the diagnosis needs at least 4 "
+                         "(half to fit, half held out)")
+    held = cycles[1::2]
+    h = np.isin(cycle, held)
+    return Split(~h, h, held)
+
+
+@dataclass(frozen=True)
+class Scorer:
+    """Noise-normalised residuals of one recording and the held-out bookkeeping."""
+
+    model: ResidualModel
+    split: Split
+    sigma_torque: np.ndarray  # block noise of R_T per block [N m]
+    sigma_force: np.ndarray  # block noise of R_F per block [N]
+
+    @classmethod
+    def build(cls, model: ResidualModel) -> Scorer:
+        """Measure the block noise (module docstring, :func:`block_noise_shape`)."""
+        b = model.blocks
+        r = model.residuals(NOMINAL)
+        shape_t, shape_f = block_noise_shape(model)
+        floor_t = 1e-6 * model.nominal.T_fc + 1e-12  # resolution floors for noise-free data
+        c_t = max(_noise(r["torque"] / shape_t, b.run, b.moving), floor_t / np.median(shape_t))
+        c_f = max(_noise(r["force"] / shape_f, b.run, np.ones(b.size, bool)), 1e-3 / np.median(shape_f))
+        return cls(model, split_by_cycle(b.cycle), c_t * shape_t, c_f * shape_f)
+
+    def z(self, aug: Augment, mask: np.ndarray) -> np.ndarray:
+        """Normalised residuals of the masked blocks, torque rows then force rows."""
+        r = self.model.residuals(aug)
+        return np.concatenate((r["torque"][mask] / self.sigma_torque[mask],
+                               r["force"][mask] / self.sigma_force[mask]))
+
+    def row_cycles(self, mask: np.ndarray) -> np.ndarray:
+        c = self.model.blocks.cycle[mask]
+        return np.concatenate((c, c))
+
+    def cycle_sse(self, aug: Augment) -> np.ndarray:
+        """Sum of z^2 per held-out cycle."""
+        m = self.split.heldout
+        z2 = self.z(aug, m) ** 2
+        rows = self.row_cycles(m)
+        return np.array([z2[rows == c].sum() for c in self.split.heldout_cycles])
+
+    def gap(self, aug: Augment) -> float:
+        """Held-out gap, metric ``excess_rms_over_noise`` (torque rows of blocks at rest left out)."""
+        m = self.split.heldout
+        z = self.z(aug, m)
+        rows = np.concatenate((self.model.blocks.moving[m], np.ones(m.sum(), bool)))
+        ms = float(np.mean(z[rows] ** 2))
+        return float(np.sqrt(max(ms - 1.0, 0.0)))
+
+
+def block_noise_shape(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
+    """Relative noise of each block's R_T and R_F, propagated from the measured sensor noise.
+
+    A block of n samples over dt_b seconds: R_T carries the end-point speed noise
+    J_me i_g sigma_v sqrt(2) / dt_b and the averaged current and force noise
+    (K_T sigma_I)^2 / n + ((l / (2 pi i_g) + G) sigma_F)^2 / n; R_F carries
+    (sigma_F^2 + [in contact] (K_b l sigma_theta / (2 pi))^2) / n.  Only the shape
+    matters: the overall scale of each channel is measured on the residuals
+    themselves (:func:`.noise.series_noise`), so coloured or mis-modelled sensor
+    noise cannot bias it.
+    """
+    rec, n, b = model.rec, model.nominal, model.blocks
+    sv, si, sf, sa = (signal_noise(x) for x in (rec.velocity, rec.current, rec.axial_force, rec.angle))
+    ns = (b.stop - b.start + 1).astype(float)
+    dt = rec.t[b.stop] - rec.t[b.start]
+    var_t = 2.0 * (n.J_me * n.i_g * sv / dt) ** 2 + (
+        (n.K_T * si) ** 2 + ((n.load_ratio + n.G) * sf) ** 2) / ns
+    contact = b.force > model.seg.force_on
+    var_f = (sf**2 + contact * (n.K_b * n.lead * sa / (2.0 * np.pi)) ** 2) / ns
+    # noise-free channels: fall back to plain averaging, 1 / sqrt(n)
+    shape_t = np.sqrt(var_t) if np.all(var_t > 0) else 1.0 / np.sqrt(ns)
+    shape_f = np.sqrt(var_f) if np.all(var_f > 0) else 1.0 / np.sqrt(ns)
+    return shape_t / np.median(shape_t), shape_f / np.median(shape_f)
+
+
+def _noise(r: np.ndarray, run: np.ndarray, mask: np.ndarray) -> float:
+    """Block noise of ``r`` over the masked blocks (0 when fewer than 3)."""
+    return series_noise(r[mask], run[mask]) if mask.sum() >= 3 else 0.0
+
+
+@dataclass
+class EffectFit:
+    """One effect fitted on calibration cycles and judged on held-out ones."""
+
+    effect: Effect
+    theta: np.ndarray
+    stderr: np.ndarray
+    augment: Augment
+    gap_after: float
+    score: float
+    d_cycles: np.ndarray  # held-out S_before,c - S_after,c per cycle
+    p_value: float = 1.0  # one-sided test of mean(d_c) > 0
+    ties: list[str] = field(default_factory=list)
+
+    def as_dict(self) -> dict:
+        return {
+            "effect": self.effect.name, "score": self.score, "gap_after": self.gap_after,
+            "p_value": self.p_value, "k": self.effect.k,
+            "parameters": {p: {"value": float(v), "stderr": float(s), "unit": u}
+                           for p, v, s, u in zip(self.effect.params, self.theta, self.stderr,
+                                                 self.effect.units, strict=True)},
+        }
+
+
+def fit_effect(sc: Scorer, effect: Effect) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares parameters and their cluster-robust standard errors on the calibration cycles."""
+    mask = sc.split.calibration
+    scale = np.asarray(effect.scale, dtype=float)
+    lo = -np.inf * np.ones(effect.k) if effect.lower is None else np.asarray(effect.lower, dtype=float)
+    hi = np.inf * np.ones(effect.k) if effect.upper is None else np.asarray(effect.upper, dtype=float)
+
+    def fun(u: np.ndarray) -> np.ndarray:  # u = theta / scale keeps the solver well conditioned
+        return sc.z(effect.to_augment(u * scale), mask)
+
+    best = None
+    for start in effect.starts:
+        u0 = np.asarray(start, dtype=float) / scale
+        res = optimize.least_squares(fun, u0, bounds=(lo / scale, hi / scale), method="trf",
+                                     x_scale=1.0, diff_step=1e-3, max_nfev=60)
+        if best is None or res.cost < best.cost:
+            best = res
+    J, z = best.jac, best.fun
+    rows = sc.row_cycles(mask)
+    bread = np.linalg.pinv(J.T @ J)
+    meat = np.zeros((effect.k, effect.k))
+    for c in np.unique(rows):
+        g = J[rows == c].T @ z[rows == c]
+        meat += np.outer(g, g)
+    cov = bread @ meat @ bread
+    return best.x * scale, np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
+
+
+def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray) -> EffectFit:
+    """Fit ``effect`` and compute its held-out gap, score and per-cycle improvements."""
+    theta, se = fit_effect(sc, effect)
+    aug = effect.to_augment(theta)
+    s_after = sc.cycle_sse(aug)
+    d = s_before - s_after
+    score = float((d.sum() - 2.0 * effect.k) / s_before.sum())
+    fit = EffectFit(effect, theta, se, aug, sc.gap(aug), score, d)
+    fit.p_value = one_sided_p(d / s_before)
+    return fit
+
+
+def one_sided_p(d: np.ndarray) -> float:
+    """p-value of the one-sided t-test mean(d) > 0 (1 when d has no spread or no positive mean)."""
+    if d.size < 2 or d.mean() <= 0.0:
+        return 1.0
+    sd = d.std(ddof=1)
+    if sd == 0.0:
+        return 0.0
+    return float(stats.t.sf(d.mean() / (sd / np.sqrt(d.size)), d.size - 1))
+
+
+def paired_p(a: np.ndarray, b: np.ndarray) -> float:
+    """Two-sided paired t-test p-value of mean(a - b) = 0."""
+    diff = a - b
+    sd = diff.std(ddof=1)
+    if sd == 0.0:
+        return 1.0 if diff.mean() == 0.0 else 0.0
+    t = diff.mean() / (sd / np.sqrt(diff.size))
+    return float(2.0 * stats.t.sf(abs(t), diff.size - 1))
+
+
+@dataclass
+class Ranking:
+    """The outcome of :func:`rank`."""
+
+    fits: list[EffectFit]  # best first
+    gap_before: float
+    verdict: str  # "effect" | "none"
+    alpha: float
+
+    @property
+    def top(self) -> EffectFit:
+        return self.fits[0]
+
+
+def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
+    """Fit every effect, rank by score, decide the verdict, mark near-ties with the top effect."""
+    s_before = sc.cycle_sse(NOMINAL)
+    fits = sorted((evaluate(sc, e, s_before) for e in catalog.values()), key=lambda f: -f.score)
+    level = ALPHA / len(fits)
+    verdict = "effect" if fits[0].p_value < level and fits[0].score > 0.0 else "none"
+    top = fits[0]
+    top.ties = [f.effect.name for f in fits[1:]
+                if f.score > 0.0 and paired_p(top.d_cycles / s_before, f.d_cycles / s_before) >= TIE_ALPHA]
+    return Ranking(fits, sc.gap(NOMINAL), verdict, level)
+
+
+def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,
+                          sigma_torque: float, sigma_force: float, n: int = 12) -> dict:
+    """Operating range where two fitted effects disagree most, in noise units.
+
+    The moving-branch friction (004 eq. 9 + each augmentation) is compared on a
+    grid of motor speed 0..1.5 ``max_speed`` and force 0..1.5 ``max_force``; the
+    force-travel law (004 eq. 5 + each) on force 0..1.5 ``max_force``.  The cell
+    with the largest |difference| / sigma names the experiment (screw speed
+    reported at the screw, i.e. motor speed / i_g).
+    """
+    w = np.linspace(0.0, 1.5 * max_speed, n + 1)
+    F = np.linspace(0.0, 1.5 * max_force, n + 1)
+    wc, Fc = np.meshgrid(0.5 * (w[1:] + w[:-1]), 0.5 * (F[1:] + F[:-1]), indexing="ij")
+    dT = np.abs(kinetic_friction(nom, a.augment, wc, Fc) - kinetic_friction(nom, b.augment, wc, Fc))
+    dT /= sigma_torque
+    x = nom.x_ag + 0.5 * (F[1:] + F[:-1]) / nom.K_b
+    dF = np.abs(force_from_travel(nom, a.augment, x) - force_from_travel(nom, b.augment, x)) / sigma_force
+    i, j = np.unravel_index(int(np.argmax(dT)), dT.shape)
+    if dF.max() > dT[i, j]:
+        k = int(np.argmax(dF))
+        speed, force, sep = None, [float(F[k]), float(F[k + 1])], float(dF[k])
+    else:
+        speed = [float(w[i] / nom.i_g), float(w[i + 1] / nom.i_g)]
+        force, sep = [float(F[j]), float(F[j + 1])], float(dT[i, j])
+    inside = (speed is None or speed[0] * nom.i_g <= max_speed) and force[0] <= max_force
+    where = (f"screw speed {speed[0]:.3g}-{speed[1]:.3g} rad/s at " if speed else "") + \
+        f"clamp force {force[0]:.4g}-{force[1]:.4g} N"
+    return {"between": [a.effect.name, b.effect.name], "screw_speed_rad_s": speed, "force_N": force,
+            "separation_sigma": sep, "inside_recorded_range": bool(inside),
+            "experiment": f"record at {where}" + ("" if inside else " (beyond the recorded range)")}

@@ -1,0 +1,282 @@
+"""Residuals that measure the twin, not accumulated drift: torque balance and force-angle law per block.
+
+Why not simply run the twin on the recorded current and compare?  The twin of
+004 is current driven: 004 eq. 1, J_me dw_m/dt = K_T I_a - l F_cl / (2 pi i_g) - T_f,
+integrates every torque error twice, and the stiff clamp (004 eq. 5) turns a
+0.05 N m friction mismatch into radians of angle and kilonewtons of force within
+one recording.  A free simulation therefore reports drift, not the model.  This
+module compares the model with the recording in two *algebraic* channels that
+need no integration across more than one short block:
+
+**Torque channel (004 eq. 1, 7, 9), re-anchored every block.**  Blocks are
+``block_s`` long (20 ms by default), never straddle a phase or cycle boundary,
+and start from the *recorded* state.  Integrating eq. 1 over a block
+[t0, t1] along the recorded speed and force gives the twin's speed at t1,
+
+    w_sim(t1) = w(t0) + (1/J_me) * int_{t0}^{t1} (K_T I - T_L(F) - T_f(w, F)) dt,
+
+(T_L = l F / (2 pi i_g), the load torque at the motor of 004 eq. 1) and the
+block residual is the speed the twin gains over the recording, expressed as the
+mean torque it takes:
+
+    R_T = [int (K_T I - T_L - T_f) dt - J_me (w(t1) - w(t0))] / (t1 - t0)   [N m].
+
+R_T is "recorded motor torque minus the torque the model needs for the recorded
+motion and force"; positive means the real unit needed more torque (e.g. more
+friction) than the twin.  Being an integral of the recorded current and a
+difference of recorded speeds, it needs no numerical differentiation.
+J_me is 004 eq. 2.  The same block gives the twin's velocity error
+w_sim - w at t1 (= R_T (t1 - t0) / J_me) and its angle error at t1 (the
+integral of that velocity error over the block): the *re-anchored short-horizon
+simulation* of the velocity and angle signals.
+
+Friction follows 004 eq. 9, evaluated on the recorded state. Moving
+(|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest the static
+branch holds: T_f takes whatever value balances K_T I - T_L - J_me dw_m/dt as
+long as that stays within the stick band T_fs + G F, and is clipped to the band otherwise,
+so during force maintenance the residual is the amount by which the recorded
+holding torque lies *outside* the band the model allows (a dead-zone residual).
+
+**Force channel (004 eq. 4-5).**  The nut travel x = l theta_s / (2 pi) (screw
+angle from the recording, released position at theta_s = 0) predicts the clamp
+force F = K_b max(0, x - x_ag); the block mean of recorded minus predicted force
+is R_F [N].  It sees clearance, stiffness and force-sensor errors, which the
+torque channel (evaluated at the *recorded* force) does not.
+
+Unmodelled effects enter as an :class:`Augment` (corrections to the nominal
+parameters and functional forms); :mod:`.catalog` maps each effect's few
+parameters onto it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import uniform_filter1d
+
+from ebm_wear_monitor.diagnosis.noise import signal_noise
+from ebm_wear_monitor.diagnosis.phases import Segmentation
+from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.params import UnitParams
+
+
+@dataclass(frozen=True)
+class Nominal:
+    """Parameters of the nominal twin (004 Table 1 and eq. 9 as given by the unit file), motor side."""
+
+    J_me: float  # equivalent inertia at the motor, 004 eq. 2 [kg m^2]
+    K_T: float  # torque constant, 004 eq. 7 [N m / A]
+    i_g: float  # gear ratio, motor turns per screw turn [-]
+    lead: float  # l [m]
+    T_fs: float  # static friction torque [N m]
+    T_fc: float  # Coulomb friction torque [N m]
+    B: float  # viscous coefficient [N m s / rad]
+    G: float  # load coefficient [N m / N]
+    K_b: float  # clamp stiffness, 004 eq. 6 [N/m]
+    x_ag: float  # brake clearance [m]
+
+    @classmethod
+    def from_unit(cls, unit: UnitParams) -> Nominal:
+        """Nominal twin of a unit file; its ``actuator`` block is required."""
+        a = unit.actuator
+        if a is None:
+            raise InputError(f"{unit.name}: the unit file has no 'actuator' block; the diagnosis needs it")
+        lead = unit.ball_screw.lead
+        J_me = (a.motor.inertia + a.gear_inertia + a.screw_inertia / a.gear_ratio**2
+                + (lead / (2.0 * math.pi * a.gear_ratio)) ** 2 * a.nut_mass)
+        f = a.friction
+        return cls(J_me, a.motor.torque_constant, a.gear_ratio, lead, f.static, f.coulomb, f.viscous,
+                   f.load_coefficient, a.stiffness, a.clearance)
+
+    @property
+    def load_ratio(self) -> float:
+        """l / (2 pi i_g): load torque at the motor per newton of clamp force, 004 eq. 1 [m/rad]."""
+        return self.lead / (2.0 * math.pi * self.i_g)
+
+
+@dataclass(frozen=True)
+class Augment:
+    """Corrections to the nominal twin; every field zero is the nominal twin itself.
+
+    Friction terms are at the motor shaft (004 eq. 9), force terms at the nut (004 eq. 5).
+    """
+
+    dB: float = 0.0  # viscous coefficient change [N m s / rad]
+    dG: float = 0.0  # load coefficient change [N m / N]
+    dT_fs: float = 0.0  # static friction change [N m]
+    dT_fc: float = 0.0  # Coulomb friction change [N m]
+    eff_speed: float = 0.0  # d(1/eta - 1)/d|w_m|: extra loss per unit load torque and speed [s/rad]
+    eff_force: float = 0.0  # d(1/eta - 1)/dF: extra loss per unit load torque and force [1/N]
+    stribeck_torque: float = 0.0  # extra friction at zero speed, decaying with speed [N m]
+    stribeck_speed: float = 1.0  # Stribeck speed w_s of exp(-(|w_m|/w_s)^2) [rad/s], > 0
+    stiffness_quad: float = 0.0  # k_2 of F = K_b d + k_2 d^2 [N/m^2]
+    clearance: float = 0.0  # extra clearance dx_ag [m]
+    force_bias: float = 0.0  # force-sensor offset b: F_meas = (1 + g) F + b [N]
+    force_gain: float = 0.0  # force-sensor gain error g [-]
+
+
+NOMINAL = Augment()
+
+
+def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *,
+                     sign: np.ndarray | None = None, speed: np.ndarray | None = None) -> np.ndarray:
+    """Moving branch of 004 eq. 9 with the corrections of ``aug`` [N m].
+
+    T_f = (T_fc + dT_fc + (G + dG) F) s + (B + dB) w_m + s T_L (a_w |w_m| + a_F F)
+    + s T_S exp(-(|w_m| / w_S)^2), s = sgn(w_m), T_L = l F / (2 pi i_g).
+    ``sign`` and ``speed`` default to sgn(w_m) and |w_m|; the residual model passes smoothed ones.
+    """
+    s = np.sign(w_m) if sign is None else sign
+    speed = np.abs(w_m) if speed is None else speed
+    T_L = n.load_ratio * F
+    T = (s * (n.T_fc + aug.dT_fc + (n.G + aug.dG) * F) + (n.B + aug.dB) * w_m
+         + s * T_L * (aug.eff_speed * speed + aug.eff_force * F))
+    if aug.stribeck_torque:
+        T = T + s * aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2)
+    return T
+
+
+def force_from_travel(n: Nominal, aug: Augment, x: np.ndarray) -> np.ndarray:
+    """Clamp force read by the sensor at nut travel ``x`` [m]: 004 eq. 5 with the corrections of ``aug`` [N].
+
+    F_meas = (1 + g) (K_b d + k_2 d^2) + b with d = max(0, x - x_ag - dx).
+    """
+    d = np.maximum(x - n.x_ag - aug.clearance, 0.0)
+    return (1.0 + aug.force_gain) * (n.K_b * d + aug.stiffness_quad * d * d) + aug.force_bias
+
+
+@dataclass(frozen=True)
+class Blocks:
+    """Blocks of samples [start, stop] (end points shared by neighbours) inside one phase run of one cycle."""
+
+    start: np.ndarray
+    stop: np.ndarray
+    phase: np.ndarray  # phase code (-1 idle)
+    cycle: np.ndarray  # brake-cycle index
+    run: np.ndarray  # id of the phase run the block belongs to (for noise differences)
+    moving: np.ndarray  # bool: the screw moves over most of the block
+    speed: np.ndarray  # mean |screw speed| [rad/s]
+    force: np.ndarray  # mean recorded axial force [N]
+
+    @property
+    def size(self) -> int:
+        return int(self.start.size)
+
+
+def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving: np.ndarray,
+                n_per_block: int) -> Blocks:
+    """Cut every run of equal (cycle, phase) into blocks of about ``n_per_block`` samples."""
+    key = seg.cycle.astype(np.int64) * 8 + (seg.phase.astype(np.int64) + 1)
+    run_start = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
+    run_stop = np.append(run_start[1:], key.size) - 1  # last sample of each run
+    starts, stops, runs = [], [], []
+    for r, (a, b) in enumerate(zip(run_start, run_stop, strict=True)):
+        span = int(b - a)
+        if span < 2:
+            continue
+        nb = max(1, span // n_per_block)
+        edges = np.round(np.linspace(a, b, nb + 1)).astype(np.int64)
+        starts.append(edges[:-1])
+        stops.append(edges[1:])
+        runs.append(np.full(nb, r))
+    start = np.concatenate(starts)
+    stop = np.concatenate(stops)
+    cum = lambda y: np.concatenate(([0.0], np.cumsum(y, dtype=float)))  # noqa: E731
+    n = (stop - start + 1).astype(float)
+    mean = lambda c: (c[stop + 1] - c[start]) / n  # noqa: E731
+    return Blocks(start, stop, seg.phase[start], seg.cycle[start], np.concatenate(runs),
+                  mean(cum(moving)) >= 0.5, mean(cum(np.abs(speed))), mean(cum(force)))
+
+
+class ResidualModel:
+    """Torque- and force-channel block residuals of one recording for any :class:`Augment`.
+
+    Construction measures the sample noise, the rest band and the blocks once;
+    :meth:`residuals` is then a few vectorised passes over the samples.
+    """
+
+    def __init__(self, rec: Recording, seg: Segmentation, nominal: Nominal, block_s: float = 0.02,
+                 smooth_s: float = 0.005) -> None:
+        self.rec, self.seg, self.nominal = rec, seg, nominal
+        w = max(1, round(smooth_s / rec.dt))
+        self.w_m = nominal.i_g * rec.velocity  # motor speed, 004 eq. 3 [rad/s]
+        w_smooth = uniform_filter1d(self.w_m, w, mode="nearest")
+        #: rest band of the motor speed (004 eq. 9 epsilon): 3 sigma of the smoothed speed noise
+        self.eps = max(3.0 * signal_noise(self.w_m) / math.sqrt(w), nominal.i_g * 0.5 * seg.eps_velocity)
+        self.moving = np.abs(w_smooth) > self.eps
+        self.sign = np.sign(w_smooth) * self.moving
+        self.speed = np.abs(w_smooth)
+        #: J_me dw_m/dt from the recorded speed (central differences, whose trapezoid integral over
+        #: a block telescopes to the block's speed change): used only inside the stick band, where
+        #: the friction torque takes whatever value balances the motion (004 eq. 9, second branch)
+        self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
+        self.x = nominal.lead * rec.angle / (2.0 * math.pi)  # nut travel, 004 eq. 4 [m]
+        self.drive_torque = nominal.K_T * rec.current  # motor torque, 004 eq. 7 [N m]
+        self.blocks = make_blocks(seg, rec.velocity, rec.axial_force, self.moving,
+                                  max(2, round(block_s / rec.dt)))
+        if self.blocks.size < 4:
+            raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
+        self._dt_block = rec.t[self.blocks.stop] - rec.t[self.blocks.start]
+        self._dw_block = self.w_m[self.blocks.stop] - self.w_m[self.blocks.start]
+
+    # ----------------------------------------------------------------- model terms per sample
+    def true_force(self, aug: Augment) -> np.ndarray:
+        """Clamp force behind the recorded one when the sensor reads F_meas = (1 + g) F + b [N]."""
+        return (self.rec.axial_force - aug.force_bias) / (1.0 + aug.force_gain)
+
+    def friction(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
+        """(friction torque T_f per sample [N m], load torque T_L per sample [N m]): 004 eq. 9 + ``aug``."""
+        n = self.nominal
+        F = self.true_force(aug)
+        T_L = n.load_ratio * F
+        kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
+        band = np.maximum(n.T_fs + aug.dT_fs + (n.G + aug.dG) * F, 0.0)
+        stuck = np.clip(self.drive_torque - T_L - self.inertia_torque, -band, band)
+        return np.where(self.moving, kinetic, stuck), T_L
+
+    def force_model(self, aug: Augment) -> np.ndarray:
+        """Axial force the model predicts from the recorded nut travel, as the sensor would read it [N]."""
+        return force_from_travel(self.nominal, aug, self.x)
+
+    # ----------------------------------------------------------------- block residuals
+    def _net_integral(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
+        """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample."""
+        T_f, T_L = self.friction(aug)
+        net = self.drive_torque - T_L - T_f
+        t = self.rec.t
+        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(t)))), net
+
+    def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
+        """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N]), see the module docstring."""
+        b = self.blocks
+        C, _ = self._net_integral(aug)
+        torque = (C[b.stop] - C[b.start] - self.nominal.J_me * self._dw_block) / self._dt_block
+        df = self.rec.axial_force - self.force_model(aug)
+        cf = np.concatenate(([0.0], np.cumsum(df)))
+        force = (cf[b.stop + 1] - cf[b.start]) / (b.stop - b.start + 1)
+        return {"torque": torque, "force": force}
+
+    def signal_residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
+        """Per-block residual of each recorded signal, twin minus recording where the twin predicts it.
+
+        ``current``: recorded current minus the current the model needs [A] (R_T / K_T, sign flipped
+        so that positive means the twin needs more); ``velocity``: re-anchored twin screw speed minus
+        recorded at block end [rad/s]; ``angle``: re-anchored twin screw angle minus recorded at block
+        end [rad]; ``axial_force``: force predicted from the nut travel minus recorded [N].
+        """
+        n, b, t = self.nominal, self.blocks, self.rec.t
+        res = self.residuals(aug)
+        C, _ = self._net_integral(aug)
+        # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
+        g = C / n.J_me - self.w_m
+        D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))))
+        angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.J_me) * self._dt_block
+        return {
+            "current": -res["torque"] / n.K_T,
+            "velocity": res["torque"] * self._dt_block / n.J_me / n.i_g,
+            "angle": angle_err / n.i_g,
+            "axial_force": -res["force"],
+        }

@@ -1,0 +1,72 @@
+"""Where the twin misses: residuals of each signal in each phase and over speed and force ranges.
+
+Every block residual of :meth:`.residuals.ResidualModel.signal_residuals` is
+divided by its measured noise so that signals and phases compare:
+
+* ``current`` and ``velocity`` are the torque-channel residual R_T seen as a
+  current (R_T / K_T) and as the re-anchored speed error (R_T dt / J_me): both
+  are normalised by the torque channel's block noise, so they carry the same
+  z-score (one balance, two units);
+* ``angle`` (re-anchored angle error at the block end) by its own block noise
+  (:func:`.noise.series_noise`, lag-2 differences over moving blocks);
+* ``axial_force`` by the force channel's block noise.
+
+The table entry is the RMS z-score of the blocks of that phase (1 = noise);
+``where`` names the phase and signal with the largest one.  ``by_speed`` and
+``by_force`` give the torque-channel RMS z-score in quartile bins of the
+block's mean screw speed (moving blocks) and clamp force (blocks in contact).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ebm_wear_monitor.diagnosis.noise import series_noise
+from ebm_wear_monitor.diagnosis.phases import PHASES
+from ebm_wear_monitor.diagnosis.ranking import Scorer
+from ebm_wear_monitor.diagnosis.recording import SIGNALS
+from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Augment
+
+
+def _rms(z: np.ndarray) -> float | None:
+    return float(np.sqrt(np.mean(z * z))) if z.size else None
+
+
+def signal_z(sc: Scorer, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
+    """Noise-normalised per-block residual of each signal (module docstring)."""
+    b = sc.model.blocks
+    res = sc.model.signal_residuals(aug)
+    ang_scale = series_noise(sc.model.signal_residuals(NOMINAL)["angle"][b.moving], b.run[b.moving])
+    return {
+        "current": -res["current"] * sc.model.nominal.K_T / sc.sigma_torque,
+        "velocity": res["velocity"] * sc.model.nominal.J_me * sc.model.nominal.i_g
+        / (sc.sigma_torque * (sc.model.rec.t[b.stop] - sc.model.rec.t[b.start])),
+        "angle": res["angle"] / max(ang_scale, 1e-12),
+        "axial_force": -res["axial_force"] / sc.sigma_force,
+    }
+
+
+def _bins(values: np.ndarray, z: np.ndarray, unit: str) -> list[dict]:
+    """RMS z in quartile bins of ``values``."""
+    if values.size < 8:
+        return []
+    edges = np.unique(np.quantile(values, [0.0, 0.25, 0.5, 0.75, 1.0]))
+    idx = np.clip(np.searchsorted(edges, values, side="right") - 1, 0, edges.size - 2)
+    return [{f"range_{unit}": [float(edges[i]), float(edges[i + 1])], "normalised_rms": _rms(z[idx == i]),
+             "blocks": int((idx == i).sum())} for i in range(edges.size - 1)]
+
+
+def where_table(sc: Scorer, aug: Augment = NOMINAL) -> dict:
+    """The ``where`` object of the diagnosis JSON (interface.md section 4, extended)."""
+    b = sc.model.blocks
+    z = signal_z(sc, aug)
+    table = {p: {s: _rms(z[s][b.phase == i]) for s in SIGNALS} for i, p in enumerate(PHASES)}
+    best = max(((v, p, s) for p, row in table.items() for s, v in row.items() if v is not None),
+               default=(None, None, None))
+    contact = b.force > sc.model.seg.force_on
+    return {
+        "phase": best[1], "signal": best[2], "normalised_rms": best[0], "table": table,
+        "by_speed": _bins(b.speed[b.moving], z["current"][b.moving], "rad_s"),
+        "by_force": _bins(b.force[contact], z["current"][contact], "N"),
+        "by_force_axial": _bins(b.force[contact], z["axial_force"][contact], "N"),
+    }

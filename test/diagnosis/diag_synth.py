@@ -1,0 +1,62 @@
+"""Closed-form test recordings for the diagnosis (independent of the twin's simulator).
+
+The nut follows a prescribed minimum-jerk travel x(t) per brake cycle (apply
+0 -> x_ag + F/K_b, hold, release back to 0, idle); force from 004 eq. 5, and
+the current is what 004 eq. 1, 7, 9 (plus a known :class:`Augment`) require for
+that motion: I = (J_me dw_m/dt + T_L + T_f) / K_T, computed from the analytic
+derivatives.  At rest the motor holds T_L exactly (friction inside its band).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal, force_from_travel, kinetic_friction
+
+
+def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Position, velocity, acceleration of a unit minimum-jerk move over tau in [0, 1]."""
+    tau = np.clip(tau, 0.0, 1.0)
+    return (10 * tau**3 - 15 * tau**4 + 6 * tau**5, 30 * tau**2 - 60 * tau**3 + 30 * tau**4,
+            60 * tau - 180 * tau**2 + 120 * tau**3)
+
+
+def synth(nom: Nominal, aug: Augment = Augment(), *, cycles: int = 8, rate: float = 500.0, seed: int = 0,
+          noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
+          durations: tuple[float, float] = (0.15, 0.35)) -> Recording:
+    """A recording of ``cycles`` brake applications with effect ``aug`` present in the data."""
+    rng = np.random.default_rng(seed)
+    noise = {"angle": 2e-3, "velocity": 0.05, "axial_force": 30.0, "current": 0.03} if noise is None else noise
+    parts = []
+    t0 = 0.0
+    for _ in range(cycles):
+        F_target = rng.uniform(*forces)
+        T_app = rng.uniform(*durations)
+        x_end = nom.x_ag + aug.clearance + F_target / nom.K_b
+        seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_end),
+               ("release", 0.8 * T_app, x_end, 0.0), ("idle", 0.1, 0.0, 0.0)]
+        for _kind, dur, xa, xb in seg:
+            t = np.arange(0.0, dur, 1.0 / rate)
+            p, v, a = _min_jerk(t / dur)
+            x = xa + (xb - xa) * p
+            xd = (xb - xa) * v / dur
+            xdd = (xb - xa) * a / dur**2
+            parts.append((t0 + t, x, xd, xdd))
+            t0 += dur
+    t, x, xd, xdd = (np.concatenate(c) for c in zip(*parts, strict=True))
+    k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
+    w_m = nom.i_g * k * xd
+    F_true = np.maximum(x - nom.x_ag - aug.clearance, 0.0) * nom.K_b
+    F_true = F_true + aug.stiffness_quad * np.maximum(x - nom.x_ag - aug.clearance, 0.0) ** 2
+    T_L = nom.load_ratio * F_true
+    moving = np.abs(w_m) > 1e-3
+    T_f = np.where(moving, kinetic_friction(nom, aug, w_m, F_true), 0.0)
+    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / nom.K_T
+    force_meas = force_from_travel(nom, Augment(force_bias=aug.force_bias, force_gain=aug.force_gain,
+                                                clearance=aug.clearance, stiffness_quad=aug.stiffness_quad), x)
+    sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
+    sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
+    return Recording(t, **sig)
