@@ -1,0 +1,52 @@
+"""Digital twin of the EMB actuator (paper 004) with its brake controller and the wear coupling (000).
+
+Public API::
+
+    actuator_torques(unit, clamp_force_N) -> dict      # calc actuator (interface.md section 4)
+    simulate_unit(unit, cycles, demands=None, effects={name: magnitude}, seed=0, rate_hz=1000,
+                  wear_acceleration=1.0, *, hold_s=1.0, rest_s=0.5, ...) -> SimResult
+    simulate_current_driven(unit | ActuatorModel, t, current, x0=(angle, velocity)) -> Trajectory
+    simulate_voltage_driven(unit | ActuatorModel, t, voltage, x0=None) -> Trajectory
+    actuator_model(unit) -> ActuatorModel; apply_effects(model, effects) -> ActuatorModel
+    CATALOG, PHASES, SensorNoise, NOISELESS, BrakeController
+
+Modules: :mod:`.friction` (004 eq. 9), :mod:`.clamp` (eq. 5-6), :mod:`.dynamics`
+(eq. 1-8, integrator), :mod:`.components` (eq. 18-41), :mod:`.closedforms` (eq. 10-17,
+42-43), :mod:`.controller` (four phases of 000 Fig. 2), :mod:`.effects` (catalog),
+:mod:`.sensors` (noise), :mod:`.simulator` (duty cycles + wear), :mod:`.paper004`.
+"""
+
+from ebm_wear_monitor.twin.closedforms import actuator_torques, gap_closing, max_clamp_force
+from ebm_wear_monitor.twin.controller import PHASES, BrakeController
+from ebm_wear_monitor.twin.dynamics import (
+    ActuatorModel,
+    Trajectory,
+    actuator_model,
+    simulate_current_driven,
+    simulate_voltage_driven,
+)
+from ebm_wear_monitor.twin.effects import CATALOG, apply_effects
+from ebm_wear_monitor.twin.friction import FrictionLaw
+from ebm_wear_monitor.twin.sensors import NOISELESS, SensorNoise
+from ebm_wear_monitor.twin.simulator import DEFAULT_DEMANDS, SimResult, simulate_unit
+
+__all__ = [
+    "CATALOG",
+    "DEFAULT_DEMANDS",
+    "NOISELESS",
+    "PHASES",
+    "ActuatorModel",
+    "BrakeController",
+    "FrictionLaw",
+    "SensorNoise",
+    "SimResult",
+    "Trajectory",
+    "actuator_model",
+    "actuator_torques",
+    "apply_effects",
+    "gap_closing",
+    "max_clamp_force",
+    "simulate_current_driven",
+    "simulate_unit",
+    "simulate_voltage_driven",
+]
