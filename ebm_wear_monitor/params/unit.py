@@ -81,6 +81,7 @@ class Materials:
     screw: Material
     nut: Material
     composite_roughness: float  # R_A [m] (000 eq. 6-7)
+    asperity_radius: float | None = None  # mean asperity summit radius [m] (000 eq. 6-7, "asperity" reading)
 
 
 @dataclass(frozen=True)
@@ -238,6 +239,7 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
         screw=_material(_section(mats, "screw", f"{where}: materials"), f"{where}: materials.screw", True),
         nut=_material(_section(mats, "nut", f"{where}: materials"), f"{where}: materials.nut", True),
         composite_roughness=_number(mats, "composite_roughness", f"{where}: materials"),
+        asperity_radius=_number(mats, "asperity_radius", f"{where}: materials", required=False),
     )
     lubricant = _build(Lubricant, _section(data, "lubricant", where), f"{where}: lubricant",
                        {"viscosity": {}, "pressure_viscosity": {}})

@@ -1,0 +1,85 @@
+"""Duty cycle of 000 Sec. 4.1 / Fig. 5, reconstructed with documented numbers.
+
+000 describes the shape of one brake application but prints no axis values for
+Fig. 5; the numbers below are this project's reconstruction (build/notes/physics.md):
+
+* clearance elimination: screw speed ramps 0 -> w_max in ``t_ramp`` and holds for
+  ``t_clear``; the axial force is the small drag of moving nut and lever, ``f_drag``;
+* force generation: the speed falls linearly w_max -> 0 over ``t_force`` while the
+  force grows from ``f_drag`` to ``f_max`` in proportion to the screw angle turned
+  (a linear clamp stiffness), i.e. F = f_drag + (f_max - f_drag)(1 - (1 - t/t_force)^2);
+* force maintenance: speed 0, force f_max for ``t_hold`` (no sliding, no wear);
+* force release: the speed ramps 0 -> -w_max in ``t_ramp``, holds, then decays to 0 in
+  ``t_decay``; the force falls with the screw angle along the same stiffness line and
+  reaches zero exactly when the screw stops (000: "the screw angular velocity reduces to
+  zero and the axial force also decreases to zero").
+
+Sampled at dt = 0.01 s, the discretisation 000 Sec. 5 uses.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
+
+
+@dataclass(frozen=True)
+class DutyCycle000:
+    """Reconstructed 000 Fig. 5 duty cycle (SI units)."""
+
+    w_max: float = 25.0  # peak screw speed [rad/s] (~240 rpm, "slow-moving" EMBU screw, 000 Sec. 1)
+    f_max: float = 20.0e3  # peak axial force [N]
+    f_drag: float = 300.0  # axial force while the clearance closes [N]
+    t_ramp: float = 0.05  # speed ramp-up time [s]
+    t_clear: float = 0.25  # clearance-elimination hold at w_max [s]
+    t_force: float = 0.30  # force-generation time [s]
+    t_hold: float = 1.0  # force-maintenance time [s]
+    t_decay: float = 0.10  # final speed decay in release [s]
+    dt: float = 0.01  # time step [s] (000 Sec. 5)
+
+    def scaled(self, speed: float = 1.0, force: float = 1.0, time: float = 1.0) -> DutyCycle000:
+        """Same shape with speeds, forces and durations scaled (for elasticity studies)."""
+        return DutyCycle000(self.w_max * speed, self.f_max * force, self.f_drag * force,
+                            self.t_ramp * time, self.t_clear * time, self.t_force * time,
+                            self.t_hold * time, self.t_decay * time, self.dt)
+
+    def sample(self) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """(t [s], axial force [N], screw speed [rad/s], phase index into PHASES) at step dt, midpoints."""
+        apply_angle = 0.5 * self.w_max * self.t_force  # screw angle of force generation [rad]
+        ramp_angle = 0.5 * self.w_max * (self.t_ramp + self.t_decay)
+        t_rel_hold = max(apply_angle - ramp_angle, 0.0) / self.w_max
+        edges = np.cumsum([0.0, self.t_ramp + self.t_clear, self.t_force, self.t_hold,
+                           self.t_ramp + t_rel_hold + self.t_decay])
+        n = round(edges[-1] / self.dt)
+        t = (np.arange(n) + 0.5) * self.dt
+        phase = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, 3)
+        w = np.zeros(n)
+        f = np.zeros(n)
+        # clearance elimination
+        m = phase == 0
+        w[m] = self.w_max * np.clip(t[m] / self.t_ramp, 0.0, 1.0)
+        f[m] = self.f_drag
+        # force generation
+        m = phase == 1
+        tau = (t[m] - edges[1]) / self.t_force
+        w[m] = self.w_max * (1.0 - tau)
+        f[m] = self.f_drag + (self.f_max - self.f_drag) * (1.0 - (1.0 - tau) ** 2)
+        # force maintenance
+        f[phase == 2] = self.f_max
+        # force release: trapezoidal speed, force linear in the angle turned back
+        m = phase == 3
+        tr = t[m] - edges[3]
+        t1, t2 = self.t_ramp, self.t_ramp + t_rel_hold
+        speed = np.where(tr < t1, tr / t1, np.where(tr < t2, 1.0, np.clip((edges[4] - edges[3] - tr)
+                                                                      / self.t_decay, 0.0, 1.0)))
+        w[m] = -self.w_max * speed
+        angle = np.where(tr < t1, 0.5 * tr**2 / t1, np.where(
+            tr < t2, 0.5 * t1 + (tr - t1),
+            0.5 * t1 + (t2 - t1) + (self.t_decay - 0.5 * ((edges[4] - edges[3] - tr) ** 2) / self.t_decay)
+            - 0.5 * self.t_decay)) * self.w_max
+        f[m] = np.maximum(self.f_max * (1.0 - angle / apply_angle), 0.0)
+        return t, f, w, phase

@@ -1,0 +1,97 @@
+"""JSON results of ``ebm-wear calc contact`` and ``ebm-wear calc wear`` (interface.md section 4)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict
+from typing import Any
+
+import numpy as np
+
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.params.unit import UnitParams
+from ebm_wear_monitor.physics.archard import ball_rate, clearance_growth
+from ebm_wear_monitor.physics.contact import area_radius, softer_poisson, solve
+from ebm_wear_monitor.physics.geometry import SIDES, ScrewGeometry, curvature
+from ebm_wear_monitor.physics.hertz import deformation, houpert_max_pressure, houpert_semi_axes, normal_load
+from ebm_wear_monitor.physics.options import ModelOptions
+from ebm_wear_monitor.physics.plasticity import contact_area
+
+
+def _positive(name: str, value: float) -> float:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+        raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    return float(value)
+
+
+def _contact_type(plastic: Any) -> str:
+    return "elastic-plastic" if bool(plastic) else "elastic"
+
+
+def contact_report(unit: UnitParams, axial_force: float | None = None, normal_load_n: float | None = None,
+                   options: ModelOptions | None = None) -> dict[str, dict[str, Any]]:
+    """Static contact of one ball with each raceway (000 eq. 1-7, 003 eq. 1-5, 14-15).
+
+    Quasi-static and frictionless as in 003 Sec. 2.1: the normal load is the given
+    ``normal_load_n`` or 003 eq. 1 / 000 eq. 5 from ``axial_force`` at the unloaded contact
+    angle; semi-axes and peak pressure by 003 eq. 2-5, 14-15; approach by 000 eq. 1;
+    contact type and area by 000 eq. 6-7 under ``options``.
+    """
+    options = options or ModelOptions()
+    if (axial_force is None) == (normal_load_n is None):
+        raise InputError("give exactly one of axial force or normal load")
+    geo = ScrewGeometry.from_unit(unit)
+    alpha = geo.alpha0
+    if axial_force is not None:
+        q = float(normal_load(_positive("axial force", axial_force), geo.z, alpha, geo.phi))
+    else:
+        q = _positive("normal load", normal_load_n)  # type: ignore[arg-type]
+    out: dict[str, dict[str, Any]] = {}
+    for side in SIDES:
+        c = curvature(geo, side, alpha)
+        e_red = geo.modulus(side)
+        a, b = houpert_semi_axes(q, c.r_x, c.gamma, e_red)
+        delta = deformation(q, c.sum_rho, c.gamma, e_red)
+        mat = getattr(unit.materials, side)
+        ca = contact_area(delta, c.gamma, area_radius(unit, c.sum_rho, options.radius), hardness=mat.hardness,
+                          poisson_ratio=softer_poisson(unit, side), e_red=e_red, kappa_reading=options.kappa)
+        out[side] = {
+            "normal_load_N": q,
+            "semi_major_m": float(a),
+            "semi_minor_m": float(b),
+            "max_pressure_Pa": float(houpert_max_pressure(q, c.r_x, c.gamma, e_red)),
+            "deformation_m": float(delta),
+            "contact_type": _contact_type(ca.plastic),
+            "contact_area_m2": float(ca.area),
+            "contact_angle_deg": math.degrees(alpha),
+            "critical_interference_m": float(ca.delta_c),
+        }
+    return out
+
+
+def wear_report(unit: UnitParams, axial_force: float, speed: float,
+                options: ModelOptions | None = None) -> dict[str, Any]:
+    """Instantaneous wear state at constant axial force [N] and screw speed [rad/s] (000 eq. 5-23)."""
+    options = options or ModelOptions()
+    f = _positive("axial force", axial_force)
+    if not math.isfinite(speed):
+        raise InputError(f"speed must be finite, got {speed!r}")
+    eq, screw, nut = solve(unit, np.array([f]), np.array([abs(speed)]), options)
+    out: dict[str, Any] = {}
+    for side, st in (("screw", screw), ("nut", nut)):
+        out[side] = {
+            "normal_load_N": float(st.normal_load[0]),
+            "contact_angle_deg": math.degrees(float(st.alpha[0])),
+            "sliding_velocity_m_s": float(st.sliding_velocity[0]),
+            "contact_area_m2": float(st.area[0]),
+            "contact_type": _contact_type(st.plastic[0]),
+            "wear_rate_m_s": float(st.wear_rate[0]),
+            "deformation_m": float(st.deformation[0]),
+        }
+    ball = float(ball_rate(screw.wear_rate, nut.wear_rate, unit.wear.raceway_share)[0])
+    out["ball_wear_rate_m_s"] = ball
+    growth = clearance_growth(unit, screw.wear_rate[0], nut.wear_rate[0], ball)
+    out["clearance_growth_rate_m_s"] = float(growth)
+    out["iterations"] = eq.iterations
+    out["options"] = asdict(options)
+    return out
