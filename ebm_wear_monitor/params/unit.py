@@ -131,7 +131,9 @@ class Actuator:
     clearance: float  # x_ag, nominal brake clearance [m]
     stiffness: float  # K_b, clamp stiffness (004 eq. 6) [N/m]
     friction: Friction
-    supply_voltage: float = 48.0  # E_amax, peak armature voltage of the drive (004 eq. 11) [V]
+    # E_amax, peak armature voltage of the drive (004 eq. 11) [V]; not printed in 004: 53 V reproduces
+    # its Fig. 2a (+11 % gap-closing time) and the 40 rad/s top speed of Fig. 5a (build/notes/twin.md)
+    supply_voltage: float = 53.0
     current_limit: float = 8.0  # armature current limit of the drive [A]
 
 
