@@ -2,7 +2,7 @@
 
 Public API::
 
-    from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_topics, Recording
+    from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_signals, Recording
     result = diagnose_recording(recording, unit)   # dict, interface.md section 4
 
 Modules: :mod:`.recording` (signals on one time base), :mod:`.phases` (phase and
@@ -12,6 +12,6 @@ torque and force residuals), :mod:`.catalog` (effects), :mod:`.ranking`
 """
 
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
-from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_topics
+from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
 
-__all__ = ["Recording", "diagnose_recording", "recording_from_topics"]
+__all__ = ["Recording", "diagnose_recording", "recording_from_signals"]

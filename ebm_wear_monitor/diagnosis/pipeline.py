@@ -45,6 +45,12 @@ def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
 
 def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> dict:
     """Diagnosis JSON object of one unit's recording (interface.md section 4, with extra keys)."""
+    return diagnose_with_state(rec, unit, block_s)[0]
+
+
+def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
+                        ) -> tuple[dict, Scorer, Ranking]:
+    """:func:`diagnose_recording` plus the residual model and ranking behind it (for the report)."""
     sc, ranking = analyse(rec, unit, block_s)
     top = ranking.top
     found = ranking.verdict == "effect"
@@ -56,7 +62,7 @@ def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) 
         sigma_torque=float(np.median(sc.sigma_torque)), sigma_force=float(np.median(sc.sigma_force)))
         for f in ties]
     gap_after = top.gap_after if found else ranking.gap_before
-    return {
+    return ({
         "unit": rec.unit,
         "verdict": ranking.verdict,
         "effect": top.effect.name if found else None,
@@ -73,4 +79,4 @@ def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) 
                    "heldout": [int(c) for c in sc.split.heldout_cycles]},
         "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         "residual_method": RESIDUAL_METHOD,
-    }
+    }, sc, ranking)

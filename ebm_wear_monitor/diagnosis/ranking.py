@@ -100,14 +100,20 @@ class Scorer:
 
     @classmethod
     def build(cls, model: ResidualModel) -> Scorer:
-        """Measure the block noise (module docstring, :func:`block_noise_shape`)."""
+        """Measure the block noise (module docstring, :func:`block_noise_shape`).
+
+        The torque noise adds, in quadrature, the uncertainty of the current integral
+        where the sampling does not resolve the electrical transient
+        (:meth:`.residuals.ResidualModel._unresolved_torque`).
+        """
         b = model.blocks
         r = model.residuals(NOMINAL)
         shape_t, shape_f = block_noise_shape(model)
         floor_t = 1e-6 * model.nominal.T_fc + 1e-12  # resolution floors for noise-free data
         c_t = max(_noise(r["torque"] / shape_t, b.run, b.moving), floor_t / np.median(shape_t))
         c_f = max(_noise(r["force"] / shape_f, b.run, np.ones(b.size, bool)), 1e-3 / np.median(shape_f))
-        return cls(model, split_by_cycle(b.cycle), c_t * shape_t, c_f * shape_f)
+        sigma_t = np.hypot(c_t * shape_t, model.unresolved_torque)
+        return cls(model, split_by_cycle(b.cycle), sigma_t, c_f * shape_f)
 
     def z(self, aug: Augment, mask: np.ndarray) -> np.ndarray:
         """Normalised residuals of the masked blocks, torque rows then force rows."""

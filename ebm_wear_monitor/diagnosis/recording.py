@@ -4,7 +4,7 @@ The diagnosis works on screw-side signals as recorded (``screw/angle`` [rad],
 ``screw/velocity`` [rad/s], ``axial_force`` [N], ``motor/current`` [A]) and refers
 them to the motor shaft where 004 eq. 1 needs it (004 eq. 3: theta_m = i_g theta_c).
 Bags may deliver the topics at slightly different stamps, late, duplicated or
-with gaps; :func:`recording_from_topics` sorts, de-duplicates and linearly
+with gaps; :func:`recording_from_signals` sorts, de-duplicates and linearly
 interpolates every signal onto the stamps of ``screw/velocity``.
 """
 
@@ -65,20 +65,21 @@ def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return stamps[keep], values[keep]
 
 
-def recording_from_topics(topics: Mapping[str, tuple[np.ndarray, np.ndarray]],
-                          unit: str = "/embu") -> Recording:
-    """Build a :class:`Recording` from ``{topic: (stamps [s], values)}`` of one namespace.
+def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                           unit: str = "/embu") -> Recording:
+    """Build a :class:`Recording` from ``{signal: (stamps [s], values)}`` of one namespace.
 
-    Topics are the relative names of interface.md section 2; all four are needed
+    Signal names are those of interface.md section 4 (``angle``, ``velocity``,
+    ``axial_force``, ``current``; topics in :data:`TOPIC_OF`); all four are needed
     (the twin is driven by the recorded motor current).  Signals are interpolated
-    linearly onto the stamps of ``screw/velocity`` within the span common to all.
+    linearly onto the stamps of ``velocity`` within the span common to all.
     """
     series = {}
     for name, topic in TOPIC_OF.items():
-        if topic not in topics:
+        if name not in signals:
             raise InputError(f"{unit}: topic '{topic}' missing; the diagnosis needs all of "
                              f"{', '.join(TOPIC_OF.values())}")
-        series[name] = _clean(*topics[topic])
+        series[name] = _clean(*signals[name])
         if series[name][0].size < 2:
             raise InputError(f"{unit}: topic '{topic}' has fewer than 2 valid samples")
     base = series["velocity"][0]

@@ -33,7 +33,8 @@ simulation* of the velocity and angle signals.
 Friction follows 004 eq. 9, evaluated on the recorded state. Moving
 (|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest the static
 branch holds: T_f takes whatever value balances K_T I - T_L - J_me dw_m/dt as
-long as that stays within the stick band T_fs + G F, and is clipped to the band otherwise,
+long as that stays within the stick band T_fs + G F, and is clipped to the band
+otherwise (the band test on the smoothed balance, so that noise is not clipped),
 so during force maintenance the residual is the amount by which the recorded
 holding torque lies *outside* the band the model allows (a dead-zone residual).
 
@@ -210,9 +211,15 @@ class ResidualModel:
         self.sign = np.sign(w_smooth) * self.moving
         self.speed = np.abs(w_smooth)
         #: J_me dw_m/dt from the recorded speed (central differences, whose trapezoid integral over
-        #: a block telescopes to the block's speed change): used only inside the stick band, where
-        #: the friction torque takes whatever value balances the motion (004 eq. 9, second branch)
+        #: a block telescopes to the block's speed change), and the torque balance the stick band
+        #: must hold, K_T I - J_me dw_m/dt, averaged over neighbouring samples *at rest* only, so that
+        #: sensor noise does not push it across the band edge (a one-sided clip would turn noise into
+        #: a bias) and moving samples do not leak into it
         self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
+        rest = (~self.moving).astype(float)
+        balance = nominal.K_T * rec.current - self.inertia_torque
+        self.held_torque = uniform_filter1d(balance * rest, w, mode="nearest") / np.maximum(
+            uniform_filter1d(rest, w, mode="nearest"), 1e-12)
         self.x = nominal.lead * rec.angle / (2.0 * math.pi)  # nut travel, 004 eq. 4 [m]
         self.drive_torque = nominal.K_T * rec.current  # motor torque, 004 eq. 7 [N m]
         self.blocks = make_blocks(seg, rec.velocity, rec.axial_force, self.moving,
@@ -221,6 +228,28 @@ class ResidualModel:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
         self._dt_block = rec.t[self.blocks.stop] - rec.t[self.blocks.start]
         self._dw_block = self.w_m[self.blocks.stop] - self.w_m[self.blocks.start]
+        self.unresolved_torque = self._unresolved_torque()
+
+    def _unresolved_torque(self) -> np.ndarray:
+        """Per-block uncertainty of the motor-torque integral from current changes between samples [N m].
+
+        The armature current settles within tau_e = L_a / R_a (004 eq. 8; 0.9 ms for
+        004's motor), often faster than the sample interval: at the start of a move
+        the current jumps within the first interval and the trapezoid rule does not
+        know when.  For a monotone change dI over an interval dt, the integral lies
+        within +-|dI| dt / 2 of the trapezoid value; taken as uniform, its standard
+        deviation is |dI| dt / (2 sqrt 3).  Only the part of |dI| above three
+        standard deviations of the sensor noise (sqrt 2 sigma_I per difference) counts;
+        the errors of consecutive intervals of one transient share a sign, so they
+        add linearly within a block.  This enters the block's noise, so blocks whose
+        current the sampling does not resolve weigh little instead of being dropped
+        by a threshold.
+        """
+        rec, b = self.rec, self.blocks
+        noise = 3.0 * math.sqrt(2.0) * signal_noise(rec.current)
+        jump = np.maximum(np.abs(np.diff(rec.current)) - noise, 0.0)
+        err = np.concatenate(([0.0], np.cumsum(jump * np.diff(rec.t) / (2.0 * math.sqrt(3.0)))))
+        return self.nominal.K_T * (err[b.stop] - err[b.start]) / self._dt_block
 
     # ----------------------------------------------------------------- model terms per sample
     def true_force(self, aug: Augment) -> np.ndarray:
@@ -234,7 +263,9 @@ class ResidualModel:
         T_L = n.load_ratio * F
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
         band = np.maximum(n.T_fs + aug.dT_fs + (n.G + aug.dG) * F, 0.0)
-        stuck = np.clip(self.drive_torque - T_L - self.inertia_torque, -band, band)
+        need = self.held_torque - T_L  # friction the stuck drive must supply
+        excess = need - np.clip(need, -band, band)
+        stuck = self.drive_torque - T_L - self.inertia_torque - excess
         return np.where(self.moving, kinetic, stuck), T_L
 
     def force_model(self, aug: Augment) -> np.ndarray:

@@ -24,12 +24,14 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             60 * tau - 180 * tau**2 + 120 * tau**3)
 
 
-def synth(nom: Nominal, aug: Augment = Augment(), *, cycles: int = 8, rate: float = 500.0, seed: int = 0,
+def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0, seed: int = 0,
           noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35)) -> Recording:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data."""
     rng = np.random.default_rng(seed)
-    noise = {"angle": 2e-3, "velocity": 0.05, "axial_force": 30.0, "current": 0.03} if noise is None else noise
+    aug = Augment() if aug is None else aug
+    if noise is None:
+        noise = {"angle": 2e-3, "velocity": 0.05, "axial_force": 30.0, "current": 0.03}
     parts = []
     t0 = 0.0
     for _ in range(cycles):
@@ -55,8 +57,9 @@ def synth(nom: Nominal, aug: Augment = Augment(), *, cycles: int = 8, rate: floa
     moving = np.abs(w_m) > 1e-3
     T_f = np.where(moving, kinetic_friction(nom, aug, w_m, F_true), 0.0)
     current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / nom.K_T
-    force_meas = force_from_travel(nom, Augment(force_bias=aug.force_bias, force_gain=aug.force_gain,
-                                                clearance=aug.clearance, stiffness_quad=aug.stiffness_quad), x)
+    sensor = Augment(force_bias=aug.force_bias, force_gain=aug.force_gain, clearance=aug.clearance,
+                     stiffness_quad=aug.stiffness_quad)
+    force_meas = force_from_travel(nom, sensor, x)
     sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
     return Recording(t, **sig)

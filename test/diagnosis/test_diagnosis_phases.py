@@ -1,0 +1,33 @@
+"""Phase and cycle labels of closed-form brake cycles (diag_synth): order and count are known."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from diag_synth import synth
+
+from ebm_wear_monitor.diagnosis.phases import IDLE, segment
+from ebm_wear_monitor.diagnosis.residuals import Nominal
+from ebm_wear_monitor.params import load_unit
+
+
+def test_cycles_and_phase_order():
+    nom = Nominal.from_unit(load_unit())
+    rec = synth(nom, cycles=6, seed=2)
+    seg = segment(rec)
+    assert seg.n_cycles == 6
+    for c in range(6):
+        codes = seg.phase[seg.cycle == c]
+        runs = codes[np.concatenate(([True], codes[1:] != codes[:-1]))]
+        runs = runs[runs != IDLE]
+        # each application: clearance elimination, force generation, maintenance, release, in this order
+        assert list(runs) == [0, 1, 2, 3]
+
+
+def test_contact_threshold_between_noise_and_force():
+    nom = Nominal.from_unit(load_unit())
+    rec = synth(nom, cycles=4, seed=3)
+    seg = segment(rec)
+    assert 5 * 30.0 / np.sqrt(5) < seg.force_on < 0.05 * rec.axial_force.max()
