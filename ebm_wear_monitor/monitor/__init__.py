@@ -1,0 +1,41 @@
+"""The ROS-free wear monitor core: used unchanged by the live node and by replay / fleet.
+
+Public API::
+
+    core = MonitorCore(unit, config=None, state=None)     # state from load_state(path)
+    core.add("angle" | "velocity" | "axial_force", stamps, values)   # int64 ns or float s; any chunk
+    cycles = core.process(final=False)                    # list[CycleSummary], completed applications
+    snap = core.snapshot()                                # MonitorSnapshot; snap.to_json_dict() is the
+                                                          # replay JSON entry of interface.md section 4
+    save_state(path, core.state); state, problems = load_state(path)
+
+See :mod:`.core` for the data flow and :mod:`.config` for every threshold.
+"""
+
+from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, SIGNALS, ros_stamp_ns
+from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter_specs
+from ebm_wear_monitor.monitor.core import CycleSummary, MonitorCore, MonitorSnapshot
+from ebm_wear_monitor.monitor.life import STATUS_INSUFFICIENT, STATUS_LIMIT, STATUS_OK
+from ebm_wear_monitor.monitor.persistence import load_state, save_state
+from ebm_wear_monitor.monitor.segmentation import PHASES
+from ebm_wear_monitor.monitor.state import MonitorState, StateError
+
+__all__ = [
+    "FAULT_KINDS",
+    "PHASES",
+    "SIGNALS",
+    "STATUS_INSUFFICIENT",
+    "STATUS_LIMIT",
+    "STATUS_OK",
+    "CycleSummary",
+    "MonitorConfig",
+    "MonitorCore",
+    "MonitorSnapshot",
+    "MonitorState",
+    "StateError",
+    "Thresholds",
+    "load_state",
+    "parameter_specs",
+    "ros_stamp_ns",
+    "save_state",
+]

@@ -1,0 +1,214 @@
+"""Every threshold of the monitor core, with its unit, valid range and the reasoning behind its default.
+
+One :class:`MonitorConfig` is shared by the live node (each field is a ROS
+parameter of the same name, declared from :func:`parameter_specs`) and by
+``ebm-wear replay`` / ``ebm-wear fleet`` (defaults), so both run the same
+numbers. Thresholds that depend on the unit are given *relative to the unit*
+(a nut speed converted through the lead, a contact displacement converted
+through the clamp stiffness K_b of 004 eq. 6) and resolved into absolute values
+by :meth:`MonitorConfig.resolve`, so nothing is tuned to one recording.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field, fields, replace
+from typing import Any
+
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.params import UnitParams
+
+WEAR_METHODS = ("surrogate", "direct")
+_NOISE_MULTIPLE = 9.0  # 'on' thresholds >= 9 sigma of the sensor noise, 'off' (half) >= 4.5 sigma
+
+
+def _p(default: Any, unit: str, lo: float | None, hi: float | None, doc: str) -> Any:
+    """A config field carrying its documentation: ``unit``, closed range [lo, hi] and a description."""
+    return field(default=default, metadata={"unit": unit, "range": (lo, hi), "doc": doc})
+
+
+@dataclass(frozen=True)
+class MonitorConfig:
+    """Thresholds and noise figures of the monitor core. SI units; ranges are inclusive."""
+
+    # ---- physics
+    wear_method: str = field(default="surrogate", metadata={
+        "unit": "", "range": (None, None), "choices": WEAR_METHODS,
+        "doc": "wear model of the physics core: 'surrogate' (fast table) or 'direct' (000 Fig. 6 solve)"})
+
+    # ---- input alignment (alignment.py)
+    reorder_window_s: float = _p(
+        0.2, "s", 1e-6, 60.0,
+        "a sample may arrive this much (in header stamp) behind the newest of its topic and still be "
+        "sorted in; older ones are counted 'late' and dropped. 0.2 s = 200 periods at 1 kHz, far above "
+        "DDS delivery jitter (sub-ms, environment.md)")
+    stamp_quantum_s: float = _p(
+        1e-6, "s", 1e-9, 0.01,
+        "header stamps of the three topics are matched after flooring to this quantum; the topics are "
+        "sampled together, so 1 us only absorbs float rounding of stamps given in seconds")
+    stale_after_s: float = _p(
+        2.0, "s", 0.01, 3600.0,
+        "a topic whose newest stamp lags the newest of all topics by more than this no longer holds the "
+        "others back (its missing samples are counted)")
+    backwards_jump_s: float = _p(
+        1.0, "s", 0.0, 1e6,
+        "a dropped stamp further than this behind its topic's newest is counted 'stamp_backwards' "
+        "(clock reset, bag played in a loop) rather than 'late'")
+    gap_s: float = _p(
+        0.1, "s", 1e-4, 3600.0,
+        "consecutive aligned samples further apart than this are a 'gap': no wear is integrated across "
+        "it and a brake application in progress is closed as interrupted (10 periods at 100 Hz)")
+    max_abs_angle_rad: float = _p(
+        1e7, "rad", 1.0, 1e15,
+        "|screw angle| above this is 'absurd' (1e7 rad = 8e3 km of nut travel at a 5 mm lead)")
+    max_speed_rad_s: float = _p(
+        2000.0, "rad/s", 1.0, 1e7,
+        "|screw speed| above this is 'absurd' (19,000 rpm of the screw, beyond any EMB motor and gear)")
+    max_force_n: float = _p(
+        1e6, "N", 1.0, 1e9,
+        "axial force above this is 'absurd' (50x the dynamic load rating of the reference screw)")
+
+    # ---- segmentation (segmentation.py), relative to the unit
+    nut_speed_on_m_s: float = _p(
+        1e-3, "m/s", 1e-7, 1.0,
+        "the screw is 'moving' when its speed exceeds the one that moves the nut this fast: "
+        "omega_on = max(2 pi v / lead, 9 speed_noise_rad_s) (1.26 rad/s at 5 mm lead)")
+    speed_off_ratio: float = _p(
+        0.5, "-", 0.01, 1.0,
+        "hysteresis: the screw is 'stopped' below speed_off_ratio * omega_on")
+    contact_displacement_m: float = _p(
+        5e-6, "m", 1e-9, 1e-3,
+        "force onset (pads touch) when the axial force exceeds force_on = max(K_b d, 9 force_noise_n) "
+        "(K_b d = 208 N with K_b = 4.16e7 N/m of 004 eq. 6; 20x the axial resolution of a 4096-count "
+        "encoder). 9 sigma puts the 'released' level (half of it) 4.5 sigma above zero: a noise spike "
+        "crosses it about once in 3e5 samples")
+    contact_force_n: float = _p(
+        200.0, "N", 0.0, 1e6,
+        "force-onset threshold used only when the unit file has no actuator block (no K_b)")
+    force_off_ratio: float = _p(
+        0.5, "-", 0.01, 1.0,
+        "hysteresis: force is 'released' below force_off_ratio * force_on")
+    rest_dwell_s: float = _p(
+        0.05, "s", 0.0, 60.0,
+        "the unit is 'at rest' (application ended) once stopped and released for this long")
+    rest_angle_samples: int = _p(
+        32, "-", 1, 100000,
+        "the release rest position is the median screw angle of the last this-many rest samples")
+
+    # ---- clearance observation and filter (observation.py, kalman.py)
+    motor_encoder_counts: int = _p(
+        4096, "counts/rev", 1, 1 << 30,
+        "motor encoder resolution (1024 lines x4 quadrature); screw angle resolution "
+        "q = 2 pi / (counts * gear_ratio)")
+    force_noise_n: float = _p(
+        50.0, "N", 0.0, 1e5,
+        "1-sigma axial-force sensor noise (0.1 % of a 50 kN load cell); scales the force thresholds "
+        "and the observation noise")
+    speed_noise_rad_s: float = _p(
+        0.05, "rad/s", 0.0, 1e3,
+        "1-sigma screw-speed sensor noise; scales the speed thresholds")
+    clearance_repeatability_m: float = _p(
+        1e-6, "m", 0.0, 1e-3,
+        "1-sigma cycle-to-cycle scatter of the true travel to force onset: 1 K of temperature swing over "
+        "~0.1 m of steel in the caliper (alpha = 12e-6 /K) moves it ~1.2 um")
+    initial_clearance_std_m: float = _p(
+        1e-4, "m", 1e-9, 1e-2,
+        "1-sigma prior on the unit's clearance before the first observation (assembly tolerance)")
+    initial_factor_std: float = _p(
+        1.0, "-", 1e-6, 100.0,
+        "1-sigma prior on the wear-rate correction factor (prior mean 1 = model right); 1.0 means the "
+        "model may be off by its own size, so the prior alone never yields a remaining life")
+    growth_scatter: float = _p(
+        0.5, "-", 0.0, 10.0,
+        "1-sigma relative scatter of one application's clearance growth around the model "
+        "(cycle-to-cycle spread of the Archard coefficient)")
+    factor_drift_per_cycle: float = _p(
+        1e-3, "-", 0.0, 1.0,
+        "random-walk 1-sigma of the correction factor per application: lets it wander by ~1 over 1e6 "
+        "applications (run-in, lubricant ageing)")
+
+    # ---- remaining life (life.py)
+    min_cycles_for_life: int = _p(
+        10, "-", 1, 1 << 40,
+        "no remaining life before this many observed applications")
+    life_confidence_z: float = _p(
+        1.6448536269514722, "-", 0.0, 10.0,
+        "normal quantile of the reported band: 1.645 gives p05 / p95; growth is 'measurable' when the "
+        "correction factor's lower bound mu - z sigma is positive")
+
+    # ---- persistence
+    checkpoint_every_cycles: int = _p(
+        100, "-", 1, 1 << 40,
+        "save the state every this many completed applications (and at shutdown)")
+
+    def validate(self) -> MonitorConfig:
+        """Raise :class:`InputError` (one line) when a value is of the wrong type or out of range."""
+        for f in fields(self):
+            value = getattr(self, f.name)
+            choices = f.metadata.get("choices")
+            if choices is not None:
+                if value not in choices:
+                    raise InputError(f"monitor parameter {f.name}: must be one of {', '.join(choices)}, "
+                                     f"got {value!r}")
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise InputError(f"monitor parameter {f.name}: expected a number, got {value!r}")
+            if f.type == "int" and float(value) != int(value):
+                raise InputError(f"monitor parameter {f.name}: expected a whole number, got {value!r}")
+            lo, hi = f.metadata["range"]
+            if not math.isfinite(value) or (lo is not None and value < lo) or (hi is not None and value > hi):
+                raise InputError(f"monitor parameter {f.name}: {value!r} outside [{lo:g}, {hi:g}] "
+                                 f"{f.metadata['unit']}".rstrip())
+        return self
+
+    def updated(self, **changes: Any) -> MonitorConfig:
+        """A validated copy with ``changes`` applied (run-time parameter changes of the node)."""
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            raise InputError(f"unknown monitor parameter(s): {', '.join(sorted(unknown))}")
+        return replace(self, **changes).validate()
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def resolve(self, unit: UnitParams) -> Thresholds:
+        """Absolute thresholds for ``unit`` (see the field docs for the conversions)."""
+        lead = unit.ball_screw.lead
+        omega_on = max(2.0 * math.pi * self.nut_speed_on_m_s / lead, _NOISE_MULTIPLE * self.speed_noise_rad_s)
+        act = unit.actuator
+        force_on = act.stiffness * self.contact_displacement_m if act is not None else self.contact_force_n
+        force_on = max(force_on, _NOISE_MULTIPLE * self.force_noise_n)
+        gear = act.gear_ratio if act is not None else 1.0
+        return Thresholds(
+            omega_on=omega_on,
+            omega_off=self.speed_off_ratio * omega_on,
+            force_on=force_on,
+            force_off=self.force_off_ratio * force_on,
+            angle_resolution=2.0 * math.pi / (self.motor_encoder_counts * gear),
+            meters_per_rad=lead / (2.0 * math.pi),
+            stiffness=act.stiffness if act is not None else None,
+        )
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    """Absolute values resolved from a :class:`MonitorConfig` and a unit."""
+
+    omega_on: float  # screw speed above which it moves [rad/s]
+    omega_off: float  # screw speed below which it is stopped [rad/s]
+    force_on: float  # force onset (pads touch) [N]
+    force_off: float  # force released [N]
+    angle_resolution: float  # screw angle quantum q [rad]
+    meters_per_rad: float  # nut travel per screw radian, lead / (2 pi) [m/rad]
+    stiffness: float | None  # clamp stiffness K_b (004 eq. 6) [N/m], None without actuator block
+
+
+def parameter_specs() -> list[dict[str, Any]]:
+    """One dict per field (name, default, unit, range (lo, hi), choices, doc) to declare ROS parameters."""
+    out = []
+    for f in fields(MonitorConfig):
+        lo, hi = f.metadata["range"]
+        out.append({"name": f.name, "default": f.default, "unit": f.metadata["unit"], "range": (lo, hi),
+                    "choices": f.metadata.get("choices"), "doc": f.metadata["doc"],
+                    "type": type(f.default).__name__})
+    return out

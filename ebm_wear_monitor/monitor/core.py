@@ -1,0 +1,337 @@
+"""MonitorCore: the ROS-free wear monitor shared by the live node and the offline replay.
+
+Data flow (each step in its own module)::
+
+    add(signal, stamps, values)            any chunk size, any interleaving of topics
+      -> InputAligner.release              validate, de-duplicate, reorder, merge by stamp  (alignment.py)
+      -> Segmenter.feed                    four phases of 000 Fig. 2, segments              (segmentation.py)
+      -> per closed segment:
+           wear integral                   sum over moving samples of rate(F, omega) * dt, the physics
+                                           core's wear_model(unit, method).rates (000 eq. 20-23),
+                                           per phase, for screw raceway, nut raceway and ball
+           model clearance                 x_ag,model = x_ag,nominal + clearance_growth(wear)
+           fatigue sums                    sum |F|^3 |d theta|, sum |d theta| (ISO 3408-5)
+           per completed application:
+             clearance observation         observation.py
+             Kalman step                   kalman.py: predict with the model growth, update with it
+      -> CycleSummary per application; snapshot() for totals, remaining life (life.py), faults.
+
+Identical numbers for node and replay hold by construction: every decision
+depends on the per-topic arrival order and the values only, and every float sum
+is taken over whole-segment arrays (the same arrays whatever the chunking), so
+one message at a time and one whole recording give bit-identical results
+(test/monitor/test_monitor_core.py checks it).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ebm_wear_monitor.monitor.alignment import InputAligner
+from ebm_wear_monitor.monitor.config import MonitorConfig
+from ebm_wear_monitor.monitor.kalman import ClearanceFilter
+from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
+from ebm_wear_monitor.monitor.observation import observe_clearance
+from ebm_wear_monitor.monitor.persistence import save_state
+from ebm_wear_monitor.monitor.segmentation import PHASES, Segment, Segmenter
+from ebm_wear_monitor.monitor.state import MonitorState
+from ebm_wear_monitor.params import UnitParams
+
+WearRatesFn = Callable[[np.ndarray, np.ndarray], Any]  # (F [N], omega [rad/s]) -> (screw, nut, ball) [m/s]
+GrowthFn = Callable[[float, float, float], float]  # (screw, nut, ball wear [m]) -> clearance growth [m]
+_N_LABELS = 5
+
+
+@dataclass(frozen=True)
+class CycleSummary:
+    """One completed brake application (the content of a ``DutyCycle`` message). SI units."""
+
+    index: int  # 1-based application count since the unit was new
+    start_ns: int  # start of clearance elimination [ns]
+    end_ns: int  # back at rest after force release [ns]
+    phase_durations_s: tuple[float, float, float, float]  # in the order of PHASES [s]
+    peak_force_n: float  # [N]
+    peak_speed_rad_s: float  # peak |omega| [rad/s]
+    stroke_rad: float  # screw rotation from the rest position to peak force [rad] (NaN: rest unknown)
+    screw_wear_m: tuple[float, float, float, float]  # wear-depth increment per phase [m]
+    nut_wear_m: tuple[float, float, float, float]
+    ball_wear_m: tuple[float, float, float, float]
+    clearance_observed_m: float  # NaN when not observable [m]
+    clearance_observed_std_m: float  # its 1-sigma (NaN when not observable) [m]
+    clearance_model_m: float  # model clearance after the application [m]
+    clearance_estimate_m: float  # filtered clearance after the application [m]
+    clearance_std_m: float  # [m]
+    wear_rate_factor: float  # filter's correction of the model wear rate [-]
+    wear_rate_factor_std: float
+
+    @property
+    def start_s(self) -> float:
+        return self.start_ns * 1e-9
+
+    @property
+    def end_s(self) -> float:
+        return self.end_ns * 1e-9
+
+    @property
+    def phases(self) -> dict[str, float]:
+        return dict(zip(PHASES, self.phase_durations_s, strict=True))
+
+
+@dataclass(frozen=True)
+class MonitorSnapshot:
+    """Totals now (the content of ``wear``, ``remaining_life`` and diagnostics). SI units, None = unknown."""
+
+    duty_cycles: int
+    wear_screw_m: float
+    wear_nut_m: float
+    wear_ball_m: float
+    clearance_model_m: float
+    clearance_estimate_m: float
+    clearance_std_m: float
+    wear_rate_factor: float
+    wear_rate_factor_std: float
+    observations: int
+    limit_m: float
+    life_status: str  # "ok" | "insufficient_data" | "limit_reached"
+    cycles_p05: float | None
+    cycles_p50: float | None
+    cycles_p95: float | None
+    applications_per_hour: float | None
+    hours_p50: float | None
+    fatigue_l10_revolutions: float | None
+    fatigue_cubic_mean_load_n: float | None
+    revolutions: float
+    fatigue_remaining_cycles: float | None
+    limiting_mechanism: str  # "wear" | "fatigue" | "unknown"
+    input_faults: dict[str, int]  # totals per kind
+    input_faults_by_signal: dict[str, dict[str, int]]
+    input_rates_hz: dict[str, float | None]  # accepted samples per second of stamp span
+    segments: dict[str, int]  # closed segments per kind (cycle, incomplete, motion, interrupted, partial)
+    last_stamp_ns: int | None  # newest sample whose fate is decided
+    pending_samples: int  # samples still waiting in the reorder window / undecided rest run
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """The per-unit entry of the replay JSON (interface.md section 4) without "unit"; NaN -> null."""
+
+        def num(v: float | None) -> float | None:
+            return None if v is None or not math.isfinite(v) else float(v)
+
+        return {
+            "duty_cycles": self.duty_cycles,
+            "wear": {"screw_raceway_m": self.wear_screw_m, "nut_raceway_m": self.wear_nut_m,
+                     "ball_m": self.wear_ball_m},
+            "clearance": {"model_m": num(self.clearance_model_m),
+                          "estimate_m": num(self.clearance_estimate_m), "std_m": num(self.clearance_std_m),
+                          "wear_rate_factor": num(self.wear_rate_factor),
+                          "wear_rate_factor_std": num(self.wear_rate_factor_std),
+                          "observations": self.observations},
+            "remaining_life": {
+                "limit_m": self.limit_m, "cycles_p05": num(self.cycles_p05),
+                "cycles_p50": num(self.cycles_p50), "cycles_p95": num(self.cycles_p95),
+                "status": self.life_status,
+                "applications_per_hour": num(self.applications_per_hour), "hours_p50": num(self.hours_p50),
+                "fatigue_l10_revolutions": num(self.fatigue_l10_revolutions),
+                "fatigue_cubic_mean_load_n": num(self.fatigue_cubic_mean_load_n),
+                "revolutions": self.revolutions,
+                "fatigue_remaining_cycles": num(self.fatigue_remaining_cycles),
+                "limiting_mechanism": self.limiting_mechanism},
+            "input_faults": dict(self.input_faults),
+            "input_faults_by_signal": {k: dict(v) for k, v in self.input_faults_by_signal.items()},
+            "input_rates_hz": {k: num(v) for k, v in self.input_rates_hz.items()},
+            "segments": dict(self.segments),
+            "last_stamp_ns": self.last_stamp_ns,
+        }
+
+
+def _physics(unit: UnitParams, method: str) -> tuple[WearRatesFn, GrowthFn]:
+    from ebm_wear_monitor.physics import clearance_growth, wear_model
+
+    model = wear_model(unit, method)
+    return model.rates, lambda s, n, b: float(clearance_growth(unit, s, n, b))
+
+
+class MonitorCore:
+    """The wear monitor of one unit. Feed it with :meth:`add`, drive it with :meth:`process`.
+
+    Args:
+        unit: the unit's parameters (interface.md section 3).
+        config: thresholds (defaults when None); validated.
+        state: a state to resume (from :func:`load_state`); data at or before its
+            ``last_stamp_ns`` is dropped as late.
+        wear_rates: ``(force [N], speed [rad/s]) -> (screw, nut, ball)`` wear-depth rates [m/s];
+            default: the physics core's ``wear_model(unit, config.wear_method).rates``.
+        clearance_growth: ``(screw, nut, ball) [m] -> growth [m]``; default: the physics core's.
+        state_path: if given, the state is saved there atomically every
+            ``config.checkpoint_every_cycles`` applications (call :meth:`save` at shutdown).
+    """
+
+    def __init__(self, unit: UnitParams, config: MonitorConfig | None = None,
+                 state: MonitorState | None = None, *, wear_rates: WearRatesFn | None = None,
+                 clearance_growth: GrowthFn | None = None,
+                 state_path: str | Path | None = None):
+        self.unit = unit
+        self.config = (config or MonitorConfig()).validate()
+        self._th = self.config.resolve(unit)
+        if wear_rates is None or clearance_growth is None:
+            default_rates, default_growth = _physics(unit, self.config.wear_method)
+            wear_rates = wear_rates or default_rates
+            clearance_growth = clearance_growth or default_growth
+        self._rates, self._growth = wear_rates, clearance_growth
+        self.state_path = Path(state_path) if state_path is not None else None
+        self._nominal = unit.actuator.clearance if unit.actuator is not None else 0.0
+        st = state or MonitorState()
+        self._st = MonitorState(**{**st.to_dict(), "unit_name": unit.name, "unit_digest": unit.digest()})
+        self._aligner = InputAligner(self.config, self._th, release_floor_ns=st.last_stamp_ns)
+        for signal, counts in st.input_faults.items():
+            for kind, n in counts.items():
+                self._aligner.count(signal, kind, n)
+        self._segmenter = Segmenter(self.config, self._th)
+        if st.filter_x is not None:
+            self._filter = ClearanceFilter(st.filter_x, st.filter_P)
+        else:
+            self._filter = ClearanceFilter.prior(self._nominal, self.config.initial_clearance_std_m,
+                                                 self.config.initial_factor_std)
+        if self._st.model_clearance_at_filter_m is None:
+            self._st.model_clearance_at_filter_m = self.model_clearance()
+
+    # ------------------------------------------------------------------ configuration
+    def configure(self, config: MonitorConfig) -> None:
+        """Change thresholds at run time (ROS parameter callbacks); applies from the next :meth:`process`.
+
+        The wear method cannot change at run time (it would mix two models in one integral).
+        """
+        config = config.validate()
+        if config.wear_method != self.config.wear_method:
+            raise ValueError("wear_method cannot change while running; restart with the new method")
+        self.config, self._th = config, config.resolve(self.unit)
+        self._aligner.configure(config, self._th)
+        self._segmenter.configure(config, self._th)
+
+    # ------------------------------------------------------------------ input and processing
+    def add(self, signal: str, stamps: np.ndarray, values: np.ndarray) -> None:
+        """Queue samples of one topic: ``signal`` in {"angle", "velocity", "axial_force"} ("current" is
+        ignored); ``stamps`` header stamps as int64 ns (exact, preferred) or float s; ``values`` in SI units.
+        Any chunk size; topics may be interleaved in any way."""
+        self._aligner.add(signal, stamps, values)
+
+    def process(self, final: bool = False) -> list[CycleSummary]:
+        """Consume everything alignment can release now (everything if ``final``: end of data).
+
+        Returns the brake applications completed on the way, in order.
+        """
+        batch = self._aligner.release(final)
+        out: list[CycleSummary] = []
+        for seg in self._segmenter.feed(batch, final):
+            summary = self._integrate(seg)
+            if summary is not None:
+                out.append(summary)
+                if (self.state_path is not None
+                        and self._st.duty_cycles % self.config.checkpoint_every_cycles == 0):
+                    self.save()
+        if self._segmenter.last_consumed_ns is not None:
+            self._st.last_stamp_ns = self._segmenter.last_consumed_ns
+        return out
+
+    def _integrate(self, seg: Segment) -> CycleSummary | None:
+        st = self._st
+        phase_wear = np.zeros((3, _N_LABELS))
+        if seg.dt.size:
+            rates = self._rates(seg.force, seg.velocity)
+            for j, rate in enumerate(rates):
+                inc = np.asarray(rate, dtype=float) * seg.dt
+                phase_wear[j] = np.bincount(seg.label, weights=inc, minlength=_N_LABELS)
+            rot = np.abs(seg.dangle)
+            st.sum_f3_rot += float(np.sum(np.abs(seg.force) ** 3 * rot))
+            st.sum_rot_rad += float(np.sum(rot))
+        for k in range(_N_LABELS):
+            st.wear_screw_m += float(phase_wear[0, k])
+            st.wear_nut_m += float(phase_wear[1, k])
+            st.wear_ball_m += float(phase_wear[2, k])
+        st.segments[seg.kind] = st.segments.get(seg.kind, 0) + 1
+        if seg.kind == "interrupted":
+            self._aligner.count("stream", "interrupted_cycle", 1)
+        if seg.kind != "cycle":
+            return None
+
+        st.duty_cycles += 1
+        st.first_cycle_ns = seg.start_ns if st.first_cycle_ns is None else st.first_cycle_ns
+        st.last_cycle_ns = seg.end_ns
+        model = self.model_clearance()
+        cfg = self.config
+        growth = model - st.model_clearance_at_filter_m
+        self._filter.predict(growth, cfg.growth_scatter, cfg.factor_drift_per_cycle)
+        st.model_clearance_at_filter_m = model
+        observed, observed_std = observe_clearance(seg, self._th, cfg)
+        if math.isfinite(observed):
+            self._filter.update(observed, observed_std ** 2)
+            st.observations += 1
+        st.filter_x, st.filter_P = self._filter.x.tolist(), self._filter.P.tolist()
+        return CycleSummary(
+            index=st.duty_cycles, start_ns=seg.start_ns, end_ns=seg.end_ns,
+            phase_durations_s=seg.phase_durations_s, peak_force_n=seg.peak_force,
+            peak_speed_rad_s=float(np.max(np.abs(seg.velocity))) if seg.velocity.size else 0.0,
+            stroke_rad=seg.angle_at_peak_force - seg.rest_angle,
+            screw_wear_m=tuple(phase_wear[0, :4].tolist()), nut_wear_m=tuple(phase_wear[1, :4].tolist()),
+            ball_wear_m=tuple(phase_wear[2, :4].tolist()),
+            clearance_observed_m=observed, clearance_observed_std_m=observed_std, clearance_model_m=model,
+            clearance_estimate_m=self._filter.clearance, clearance_std_m=self._filter.clearance_std,
+            wear_rate_factor=self._filter.factor, wear_rate_factor_std=self._filter.factor_std)
+
+    # ------------------------------------------------------------------ results
+    def model_clearance(self) -> float:
+        """Axial clearance predicted by the wear model: nominal x_ag + clearance_growth(wear) [m]."""
+        st = self._st
+        return self._nominal + self._growth(st.wear_screw_m, st.wear_nut_m, st.wear_ball_m)
+
+    @property
+    def state(self) -> MonitorState:
+        """A copy of the persistent state now (save it with :func:`save_state`)."""
+        st = self._st
+        st.input_faults = {k: dict(v) for k, v in self._aligner.faults.items() if v}
+        return MonitorState.from_dict(st.to_dict())
+
+    def save(self, path: str | Path | None = None) -> None:
+        """Save the state atomically to ``path`` (default ``state_path``)."""
+        target = Path(path) if path is not None else self.state_path
+        if target is None:
+            raise ValueError("no state path given")
+        save_state(target, self.state)
+
+    def snapshot(self) -> MonitorSnapshot:
+        """Totals, clearance, remaining life and input health now."""
+        st, cfg, f = self._st, self.config, self._filter
+        model = self.model_clearance()
+        growth_per_cycle = (model - self._nominal) / st.duty_cycles if st.duty_cycles else 0.0
+        life = wear_life(f.x, f.P, self.unit.monitor.clearance_limit, growth_per_cycle,
+                         observations=st.observations, min_cycles=cfg.min_cycles_for_life,
+                         z=cfg.life_confidence_z)
+        fat = fatigue_life(self.unit.ball_screw.dynamic_load_rating, st.sum_f3_rot, st.sum_rot_rad,
+                           st.duty_cycles)
+        per_hour = None
+        if st.duty_cycles >= 2 and st.last_cycle_ns > st.first_cycle_ns:
+            per_hour = (st.duty_cycles - 1) / ((st.last_cycle_ns - st.first_cycle_ns) * 1e-9 / 3600.0)
+        hours = life.cycles_p50 / per_hour if per_hour and life.cycles_p50 is not None else None
+        by_signal = {k: dict(v) for k, v in self._aligner.faults.items() if v}
+        return MonitorSnapshot(
+            duty_cycles=st.duty_cycles, wear_screw_m=st.wear_screw_m, wear_nut_m=st.wear_nut_m,
+            wear_ball_m=st.wear_ball_m, clearance_model_m=model, clearance_estimate_m=f.clearance,
+            clearance_std_m=f.clearance_std, wear_rate_factor=f.factor, wear_rate_factor_std=f.factor_std,
+            observations=st.observations, limit_m=self.unit.monitor.clearance_limit, life_status=life.status,
+            cycles_p05=life.cycles_p05, cycles_p50=life.cycles_p50, cycles_p95=life.cycles_p95,
+            applications_per_hour=per_hour, hours_p50=hours, fatigue_l10_revolutions=fat.l10_revolutions,
+            fatigue_cubic_mean_load_n=fat.cubic_mean_load_n, revolutions=fat.revolutions,
+            fatigue_remaining_cycles=fat.remaining_cycles, limiting_mechanism=limiting_mechanism(life, fat),
+            input_faults=self._aligner.fault_totals(), input_faults_by_signal=by_signal,
+            input_rates_hz=self._aligner.input_rates_hz(), segments=dict(st.segments),
+            last_stamp_ns=st.last_stamp_ns, pending_samples=self._aligner.pending())
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """Shortcut: ``snapshot().to_json_dict()``."""
+        return self.snapshot().to_json_dict()

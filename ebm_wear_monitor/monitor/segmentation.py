@@ -1,0 +1,325 @@
+"""Duty-cycle segmentation from the signals alone: the four phases of 000 Fig. 2 / Fig. 5.
+
+000 Sec. 4.1 describes one brake application (duty cycle) as:
+
+* **clearance elimination**: the screw accelerates in the apply direction and
+  runs at speed; the axial force stays near zero while the pads close the gap;
+* **force generation**: the pads touch, the axial force rises to its maximum
+  while the screw decelerates to zero;
+* **force maintenance**: the screw is stopped, the force is held (no sliding
+  between balls and raceways, hence no wear: 000 Sec. 2);
+* **force release**: the screw turns back, the force falls to zero and the nut
+  retracts until the screw stops at the release rest position.
+
+This module turns the aligned sample stream into those phases with a causal
+state machine on two hysteresis pairs, both *relative to the unit*
+(:meth:`MonitorConfig.resolve`): screw speed (moving above ``omega_on``,
+stopped below ``omega_off``) and axial force (contact above ``force_on``,
+released below ``force_off``). Transitions:
+
+====================  =========================================================
+rest -> CE            omega > omega_on  (omega < -omega_on from rest: 'motion')
+CE -> FG              F > force_on
+FG -> FM              |omega| < omega_off
+FG, FM -> FR          omega < -omega_on
+FM, FR -> FG          omega > omega_on (and F > force_on from FR): a stepped
+                      or repeated demand re-enters force generation
+any -> rest           |omega| < omega_off and F < force_off, held for rest_dwell_s
+====================  =========================================================
+
+An application that reached force generation and came back to rest is a
+``cycle``; one that never reached force is ``incomplete``; motion that did not
+start from rest in the apply direction (or follows a resynchronisation) is
+``motion``; a gap inside an application makes it ``interrupted``; data ending
+inside one (``final``) makes it ``partial``. All of them carry their samples so
+their wear is integrated; only ``cycle`` counts as a duty cycle.
+
+Only samples where the screw moves (|omega| >= omega_off) are kept for the
+wear integral (Archard wear needs sliding, 000 eq. 20-23); each keeps the time
+``dt`` since the previous aligned sample (0 after a gap), so the kept samples
+integrate exactly the moving time. Memory is therefore bounded by moving time,
+not by how long a brake is held.
+
+Chunk invariance: decisions are taken only when the data settle them (a rest
+run shorter than the dwell at the end of the available data waits for more
+samples, kept as the carry), and every sum is over integer stamps or done later
+on whole-segment arrays, so feeding one sample at a time or everything at once
+gives the same segments bit for bit. The event loop visits transitions, not
+samples: each step is a binary search in precomputed index arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ebm_wear_monitor.monitor.alignment import AlignedBatch
+from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
+
+PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
+CE, FG, FM, FR, MOTION = 0, 1, 2, 3, 4  # sample labels (MOTION: outside any application)
+REST = -1
+UNKNOWN = -2  # at the start of data and after a gap: the first sample decides (at rest or moving)
+ACTIVE = (CE, FG, FM, FR)
+_CONFIRMED, _BROKEN, _UNDECIDED = 0, 1, 2
+
+
+@dataclass
+class Segment:
+    """One closed stretch of motion between two rests, with its kept (moving) samples."""
+
+    kind: str  # "cycle" | "incomplete" | "motion" | "interrupted" | "partial"
+    start_ns: int  # stamp of the first sample [ns]
+    end_ns: int  # stamp of the first rest sample after it (or the last sample) [ns]
+    phase_ns: np.ndarray  # int64[5]: time spent per label CE, FG, FM, FR, MOTION [ns]
+    angle: np.ndarray  # kept samples: screw angle [rad]
+    velocity: np.ndarray  # screw speed [rad/s]
+    force: np.ndarray  # axial force [N]
+    dt: np.ndarray  # time since the previous aligned sample [s] (0 after a gap)
+    dangle: np.ndarray  # angle change since the previous aligned sample [rad] (0 after a gap)
+    label: np.ndarray  # int8 phase label of each kept sample
+    peak_force: float  # max axial force over all samples of the segment [N]
+    angle_at_peak_force: float  # screw angle at that sample [rad]
+    rest_angle: float  # median rest angle before the segment [rad]; NaN when unknown
+
+    @property
+    def phase_durations_s(self) -> tuple[float, float, float, float]:
+        """Durations of the four phases of 000 Fig. 2 [s]."""
+        return tuple(float(v) * 1e-9 for v in self.phase_ns[:4])  # type: ignore[return-value]
+
+
+@dataclass
+class _Open:
+    """The segment being built."""
+
+    rest_angle: float
+    start_ns: int | None = None
+    label: int | None = None
+    label_start: int = 0
+    phase_ns: np.ndarray = field(default_factory=lambda: np.zeros(5, np.int64))
+    parts: list[tuple[np.ndarray, ...]] = field(default_factory=list)
+    peak_force: float = -np.inf
+    angle_at_peak: float = np.nan
+    reached_force: bool = False
+
+
+class Segmenter:
+    """Streaming state machine over aligned samples; :meth:`feed` returns the segments it closed."""
+
+    def __init__(self, config: MonitorConfig, thresholds: Thresholds):
+        self.configure(config, thresholds)
+        self.state = UNKNOWN
+        self._open = _Open(np.nan)
+        self._ring = np.empty(0)
+        self._carry: AlignedBatch | None = None
+        self._prev_ns: int | None = None
+        self._prev_angle = 0.0
+        self._gap_ns: int | None = None  # stamp of the last gap already handled
+
+    def configure(self, config: MonitorConfig, thresholds: Thresholds) -> None:
+        """Apply (possibly changed) thresholds from the next :meth:`feed` on."""
+        self.th = thresholds
+        self._dwell_ns = round(config.rest_dwell_s * 1e9)
+        self._ring_size = int(config.rest_angle_samples)
+
+    @property
+    def last_consumed_ns(self) -> int | None:
+        """Stamp of the last sample whose fate is decided [ns]."""
+        return self._prev_ns
+
+    # ------------------------------------------------------------------ helpers
+    def _consume(self, a: int, b: int, label: int) -> None:
+        if b <= a:
+            return
+        seg, s = self._open, self._s
+        if seg.start_ns is None:
+            seg.start_ns = int(s["t"][a])
+        if seg.label != label:
+            if seg.label is not None:
+                seg.phase_ns[seg.label] += int(s["t"][a]) - seg.label_start
+            seg.label, seg.label_start = label, int(s["t"][a])
+        keep = ~s["slow"][a:b]
+        if keep.any():
+            kept = [s[k][a:b][keep] for k in ("angle", "velocity", "force", "dt", "dangle")]
+            seg.parts.append((*kept, np.full(int(keep.sum()), label, np.int8)))
+        i = a + int(np.argmax(s["force"][a:b]))
+        if s["force"][i] > seg.peak_force:
+            seg.peak_force, seg.angle_at_peak = float(s["force"][i]), float(s["angle"][i])
+        if label in (FG, FM, FR):
+            seg.reached_force = True
+
+    def _close(self, end_ns: int, kind: str, out: list[Segment]) -> None:
+        seg = self._open
+        self._open = _Open(np.nan)
+        if seg.start_ns is None:
+            return
+        if seg.label is not None:
+            seg.phase_ns[seg.label] += end_ns - seg.label_start
+        dtypes = (*(np.float64,) * 5, np.int8)
+        arrays = [np.concatenate([part[j] for part in seg.parts]) if seg.parts else np.empty(0, d)
+                  for j, d in enumerate(dtypes)]
+        out.append(Segment(kind, seg.start_ns, end_ns, seg.phase_ns, *arrays,
+                           peak_force=float(seg.peak_force),
+                           angle_at_peak_force=seg.angle_at_peak, rest_angle=seg.rest_angle))
+
+    def _kind_at_rest(self) -> str:
+        if self.state == MOTION:
+            return "motion"
+        return "cycle" if self._open.reached_force else "incomplete"
+
+    def _next(self, name: str, p: int) -> int:
+        idx = self._s[name]
+        j = int(np.searchsorted(idx, p))
+        return int(idx[j]) if j < idx.size else self._n
+
+    def _dwell(self, r: int, e: int) -> tuple[int, int]:
+        """Is the rest run starting at ``r`` (within the gap-free range ending at ``e``) long enough?"""
+        t = self._s["t"]
+        k = min(self._next("i_notrest", r), e)
+        if int(t[k - 1]) - int(t[r]) >= self._dwell_ns:
+            return _CONFIRMED, r
+        if k < e or e < self._n:
+            return _BROKEN, k
+        return (_CONFIRMED, r) if self._final else (_UNDECIDED, r)
+
+    # ------------------------------------------------------------------ main loop
+    def feed(self, batch: AlignedBatch, final: bool = False) -> list[Segment]:
+        """Consume ``batch`` (after any carried samples); return the segments closed on the way."""
+        if self._carry is not None and len(self._carry):
+            c = self._carry
+            batch = AlignedBatch(*(np.concatenate([getattr(c, k), getattr(batch, k)])
+                                   for k in ("t_ns", "angle", "velocity", "force", "gap_before")))
+        self._carry = None
+        out: list[Segment] = []
+        n = len(batch)
+        if n == 0:
+            if final:
+                self._finish(out)
+            return out
+        th = self.th
+        t, ang, vel, frc, gap = batch.t_ns, batch.angle, batch.velocity, batch.force, batch.gap_before
+        prev_t = np.empty(n, np.int64)
+        prev_t[0] = t[0] if self._prev_ns is None else self._prev_ns
+        prev_t[1:] = t[:-1]
+        prev_a = np.empty(n)
+        prev_a[0] = ang[0] if self._prev_ns is None else self._prev_angle
+        prev_a[1:] = ang[:-1]
+        dt = np.where(gap, 0, t - prev_t) * 1e-9
+        dangle = np.where(gap, 0.0, ang - prev_a)
+        slow = np.abs(vel) < th.omega_off
+        rest = slow & (frc < th.force_off)
+        self._s = {
+            "t": t, "angle": ang, "velocity": vel, "force": frc, "dt": dt, "dangle": dangle,
+            "slow": slow, "rest": rest,
+            "i_moving": np.flatnonzero(np.abs(vel) > th.omega_on),
+            "i_pos": np.flatnonzero(vel > th.omega_on),
+            "i_neg": np.flatnonzero(vel < -th.omega_on),
+            "i_posf": np.flatnonzero((vel > th.omega_on) & (frc > th.force_on)),
+            "i_fon": np.flatnonzero(frc > th.force_on),
+            "i_slow": np.flatnonzero(slow),
+            "i_rest": np.flatnonzero(rest),
+            "i_notrest": np.flatnonzero(~rest),
+            "i_gap": np.flatnonzero(gap),
+        }
+        self._n, self._final = n, final
+        p = 0
+        while p < n:
+            if gap[p] and self._gap_ns != int(t[p]):
+                self._gap_ns = int(t[p])
+                self._on_gap(int(t[p - 1]) if p > 0 else int(self._prev_ns), out)
+            e = self._next("i_gap", p + 1)
+            p, stop = self._step(p, e, out)
+            if stop:
+                break
+        if p > 0:
+            self._prev_ns, self._prev_angle = int(t[p - 1]), float(ang[p - 1])
+        if p < n:
+            self._carry = AlignedBatch(t[p:], ang[p:], vel[p:], frc[p:], gap[p:])
+        if final:
+            self._finish(out)
+        self._s = {}
+        return out
+
+    def _finish(self, out: list[Segment]) -> None:
+        """End of data: close whatever is open."""
+        if self._prev_ns is None:
+            return
+        if self.state in ACTIVE:
+            self._close(self._prev_ns, "partial", out)
+        elif self.state == MOTION:
+            self._close(self._prev_ns, "motion", out)
+        self.state = UNKNOWN
+
+    def _on_gap(self, end_ns: int, out: list[Segment]) -> None:
+        """A gap: no knowledge of what happened in it. Close any segment and resynchronise."""
+        self._ring = np.empty(0)
+        if self.state == REST:
+            return
+        self._close(end_ns, "interrupted" if self.state in ACTIVE else "motion", out)
+        self.state = UNKNOWN
+
+    def _start(self, s: int) -> None:
+        """Leave rest at sample ``s``: a new application (apply direction) or other motion."""
+        rest_angle = float(np.median(self._ring)) if self._ring.size else np.nan
+        self._open = _Open(rest_angle)
+        self._ring = np.empty(0)
+        self.state = CE if self._s["velocity"][s] > 0 else MOTION
+
+    def _to_rest(self, p: int, r: int, out: list[Segment]) -> tuple[int, bool]:
+        """A rest run starts at ``r`` (after the samples [p, r) of the current state): settle it."""
+        status, k = self._dwell(r, self._gap_end)
+        if status == _CONFIRMED:
+            self._consume(p, r, self.state)
+            self._close(int(self._s["t"][r]), self._kind_at_rest(), out)
+            self.state = REST
+            return r, False
+        self._consume(p, k, self.state)
+        return k, status == _UNDECIDED
+
+    def _step(self, p: int, e: int, out: list[Segment]) -> tuple[int, bool]:
+        """Advance from ``p`` in the current state to the next event before ``e``; (new p, stop)."""
+        self._gap_end = e
+        nx = self._next
+        if self.state == UNKNOWN:
+            self.state = REST if self._s["rest"][p] else MOTION
+        st = self.state
+        if st == REST:
+            s = min(nx("i_moving", p), e)
+            self._ring = np.concatenate([self._ring, self._s["angle"][p:s]])[-self._ring_size:]
+            if s < e:
+                self._start(s)
+            return s, False
+        if st == CE:
+            f, r = nx("i_fon", p), nx("i_rest", p)
+            if f < min(r, e):
+                self._consume(p, f, CE)
+                self.state = FG
+                return f, False
+        elif st == FG:
+            m, q = nx("i_slow", p), nx("i_neg", p)
+            ev = min(m, q, e)
+            if ev < e:
+                self._consume(p, ev, FG)
+                self.state = FR if q < m else FM
+                return ev, False
+            r = e
+        elif st == FM:
+            a, q, r = nx("i_pos", p), nx("i_neg", p), nx("i_rest", p)
+            ev = min(a, q)
+            if ev < min(r, e):
+                self._consume(p, ev, FM)
+                self.state = FG if a < q else FR
+                return ev, False
+        elif st == FR:
+            a, r = nx("i_posf", p), nx("i_rest", p)
+            if a < min(r, e):
+                self._consume(p, a, FR)
+                self.state = FG
+                return a, False
+        else:  # MOTION
+            r = nx("i_rest", p)
+        if r < e:
+            return self._to_rest(p, r, out)
+        self._consume(p, e, st)
+        return e, False

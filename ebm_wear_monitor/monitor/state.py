@@ -1,0 +1,88 @@
+"""MonitorState: everything the monitor must remember across restarts, as plain JSON-able values.
+
+Only quantities that summarise *completed* segments are kept (cumulative wear,
+applications, filter mean and covariance, fatigue sums, fault counts), plus the
+stamp up to which data was integrated: a resumed monitor drops samples at or
+before it, so replaying data it has already seen can never count wear twice.
+A brake application in progress at a crash is lost, never half counted: the
+resumed wear is never above the truth and is short by at most the
+applications since the last checkpoint.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any
+
+STATE_VERSION = 1
+
+
+class StateError(ValueError):
+    """A state mapping is malformed (wrong version, missing key, wrong type, non-finite number)."""
+
+
+@dataclass
+class MonitorState:
+    """Persistent state of one unit's monitor. Lengths in m, stamps in int ns since the epoch."""
+
+    unit_name: str = ""
+    unit_digest: str = ""  # UnitParams.digest() of the parameters that produced it
+    duty_cycles: int = 0  # completed brake applications
+    segments: dict[str, int] = field(default_factory=dict)  # closed segments per kind
+    wear_screw_m: float = 0.0  # cumulative wear depth of the screw raceway [m]
+    wear_nut_m: float = 0.0  # ... nut raceway [m]
+    wear_ball_m: float = 0.0  # ... balls [m]
+    filter_x: list[float] | None = None  # Kalman mean [x_ag [m], f [-]]; None before the first application
+    filter_P: list[list[float]] | None = None  # Kalman covariance
+    observations: int = 0  # clearance observations fused
+    model_clearance_at_filter_m: float | None = None  # model clearance at the last filter step [m]
+    sum_f3_rot: float = 0.0  # sum |F|^3 |d theta| [N^3 rad] (ISO 3408-5 cubic-mean load)
+    sum_rot_rad: float = 0.0  # sum |d theta| [rad]
+    first_cycle_ns: int | None = None  # start of the first completed application [ns]
+    last_cycle_ns: int | None = None  # end of the last completed application [ns]
+    last_stamp_ns: int | None = None  # data at or before this stamp is already integrated [ns]
+    input_faults: dict[str, dict[str, int]] = field(default_factory=dict)  # per topic (and "stream")
+    version: int = STATE_VERSION
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: Any) -> MonitorState:
+        """Validate and build; raises :class:`StateError` with the offending key."""
+        if not isinstance(data, dict):
+            raise StateError("state is not a mapping")
+        if data.get("version") != STATE_VERSION:
+            raise StateError(f"unsupported state version {data.get('version')!r} (expected {STATE_VERSION})")
+        unknown = set(data) - {f.name for f in fields(cls)}
+        if unknown:
+            raise StateError(f"unknown state key(s): {', '.join(sorted(unknown))}")
+        state = cls(**data)
+        for name in ("duty_cycles", "observations"):
+            v = getattr(state, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                raise StateError(f"{name}: expected a count, got {v!r}")
+        for name in ("wear_screw_m", "wear_nut_m", "wear_ball_m", "sum_f3_rot", "sum_rot_rad"):
+            v = getattr(state, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+                raise StateError(f"{name}: expected a finite number >= 0, got {v!r}")
+        for name in ("first_cycle_ns", "last_cycle_ns", "last_stamp_ns"):
+            v = getattr(state, name)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, int)):
+                raise StateError(f"{name}: expected integer nanoseconds or null, got {v!r}")
+        if (state.filter_x is None) != (state.filter_P is None):
+            raise StateError("filter_x and filter_P must both be present or both null")
+        if state.filter_x is not None:
+            flat = list(state.filter_x) + [v for row in state.filter_P for v in row]
+            shape_ok = len(state.filter_x) == 2 and len(state.filter_P) == 2 and all(
+                len(r) == 2 for r in state.filter_P)
+            if (not shape_ok or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in flat)):
+                raise StateError("filter_x must be 2 finite numbers and filter_P a finite 2x2 matrix")
+        if not isinstance(state.segments, dict) or not isinstance(state.input_faults, dict):
+            raise StateError("segments and input_faults must be mappings")
+        for counts in [state.segments, *state.input_faults.values()]:
+            if not isinstance(counts, dict) or not all(
+                    isinstance(n, int) and n >= 0 for n in counts.values()):
+                raise StateError("segments and input_faults must map names to counts")
+        return state
