@@ -19,7 +19,9 @@ Sampled at dt = 0.01 s, the discretisation 000 Sec. 5 uses.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -83,3 +85,24 @@ class DutyCycle000:
             - 0.5 * self.t_decay)) * self.w_max
         f[m] = np.maximum(self.f_max * (1.0 - angle / apply_angle), 0.0)
         return t, f, w, phase
+
+
+def cycle_wear(rates_fn: Callable[[NDArray, NDArray], Any],
+               cycle: DutyCycle000 | None = None) -> dict[str, float]:
+    """Wear depths [m] of one duty cycle: sum of rates * dt (000 Sec. 4.1), totals and per phase group.
+
+    ``rates_fn`` is a :meth:`WearModel.rates`. Keys: ``screw``, ``nut``, ``ball`` (whole cycle) and
+    ``screw_apply`` / ``screw_release`` / ``nut_apply`` / ``nut_release`` (000 Table 3 columns:
+    clearance elimination + force generation, and force release).
+    """
+    cycle = cycle or DutyCycle000()
+    _, f, w, phase = cycle.sample()
+    r = rates_fn(f, w)
+    apply = phase <= 1
+    release = phase == 3
+    out = {name: float(np.sum(getattr(r, name)) * cycle.dt) for name in ("screw", "nut", "ball")}
+    for name in ("screw", "nut"):
+        rate = getattr(r, name)
+        out[f"{name}_apply"] = float(np.sum(rate[apply]) * cycle.dt)
+        out[f"{name}_release"] = float(np.sum(rate[release]) * cycle.dt)
+    return out

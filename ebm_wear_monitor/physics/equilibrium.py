@@ -77,6 +77,10 @@ def _friction(unit: UnitParams, geo: ScrewGeometry, side: str, *, q: NDArray, al
                                boundary_friction=unit.wear.boundary_friction)
 
 
+def _max_rel(new: NDArray, old: NDArray) -> float:
+    return float(np.max(np.abs(new - old) / np.maximum(new, 1e-300), initial=0.0))
+
+
 def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
                       options: ModelOptions, geo: ScrewGeometry | None = None) -> Equilibrium:
     """Fig. 6 iteration for arrays of axial force F_a > 0 [N] and screw speed |w_s| [rad/s]."""
@@ -89,8 +93,9 @@ def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
     a_n = np.full_like(f_a, a0)
     q_s = normal_load(f_a, geo.z, a_s, geo.phi)
     q_n = q_s.copy()
-    delta_s = deformation(q_s, curvature(geo, SCREW, a_s).sum_rho, curvature(geo, SCREW, a_s).gamma, geo.e_s)
-    delta_n = deformation(q_n, curvature(geo, NUT, a_n).sum_rho, curvature(geo, NUT, a_n).gamma, geo.e_n)
+    c_s, c_n = curvature(geo, SCREW, a_s), curvature(geo, NUT, a_n)
+    delta_s = deformation(q_s, c_s.sum_rho, c_s.gamma, geo.e_s)
+    delta_n = deformation(q_n, c_n.sum_rho, c_n.gamma, geo.e_n)
     b0 = geo.centre_distance0
     a2 = b0 * math.cos(a0)
     iterations = 0
@@ -114,14 +119,20 @@ def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
         # L_s cos a + L_n cos(a + D) = A_2  ->  R cos(a + eps) = A_2
         big_x = l_s + l_n * np.cos(diff)
         big_y = l_n * np.sin(diff)
-        a_s = np.arccos(np.clip(a2 / np.hypot(big_x, big_y), -1.0, 1.0)) - np.arctan2(big_y, big_x)
-        a_n = a_s + diff
-        change = max(float(np.max(np.abs(new_ds - delta_s) / np.maximum(new_ds, 1e-300), initial=0.0)),
-                     float(np.max(np.abs(new_dn - delta_n) / np.maximum(new_dn, 1e-300), initial=0.0)))
+        new_as = np.arccos(np.clip(a2 / np.hypot(big_x, big_y), -1.0, 1.0)) - np.arctan2(big_y, big_x)
+        change = max(_max_rel(new_ds, delta_s), _max_rel(new_dn, delta_n),
+                     float(np.max(np.abs(new_as - a_s), initial=0.0)))
+        a_s, a_n = new_as, new_as + diff
         delta_s, delta_n = new_ds, new_dn
         if change < options.rel_tol:
             break
+    # loads and deformations at the converged angles (eq. 15 + closure, eq. 1)
     motion = ball_motion(geo, w_s, a_s, a_n, reading=options.kinematics, beta=options.beta)
+    q_s = p / (np.sin(a_s) + mu_s * np.cos(a_s))
+    q_n = p / (np.sin(a_n) - mu_n * np.cos(a_n))
+    c_s, c_n = curvature(geo, SCREW, a_s), curvature(geo, NUT, a_n)
+    delta_s = deformation(q_s, c_s.sum_rho, c_s.gamma, geo.e_s)
+    delta_n = deformation(q_n, c_n.sum_rho, c_n.gamma, geo.e_n)
     l_s = geo.r_s - geo.r_b + delta_s
     l_n = geo.r_n - geo.r_b + delta_n
     approach = l_s * np.sin(a_s) + l_n * np.sin(a_n) - b0 * math.sin(a0)

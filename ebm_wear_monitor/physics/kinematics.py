@@ -89,11 +89,10 @@ def ball_motion(geo: ScrewGeometry, omega_s: ArrayLike, a_s: ArrayLike, a_n: Arr
         v_ys = r_b * ((w_b - w_s * math.cos(phi)) * np.cos(a_s) - w_n * np.sin(a_s)) - d * (w_m - w_s)
         v_yn = -d * w_m + r_b * (w_n * np.sin(a_n) - w_b * np.cos(a_n))
     elif reading == "rolling":
-        w_n, w_b = -w_r * math.sin(beta), w_r * math.cos(beta)
-        roll_s = w_n * np.sin(a_s) - w_b * np.cos(a_s)
-        roll_n = w_n * np.sin(a_n) - w_b * np.cos(a_n)
-        v_ys = r_b * roll_s - (w_s - w_m) * (geo.d_m / 2.0 - r_b * np.cos(a_s)) * math.cos(phi)
-        v_yn = -r_b * roll_n + w_m * (geo.d_m / 2.0 + r_b * np.cos(a_n)) * math.cos(phi)
+        # with w_b = +w_R cos(beta) and d the contact-point orbit radius, V_Ys and V_Yn are the
+        # residuals of the rolling conditions that define eq. 8-9: identically zero
+        v_ys = np.zeros_like(w_m)
+        v_yn = np.zeros_like(w_m)
     else:
         raise ValueError(f"kinematics reading must be one of {KINEMATICS}, got {reading!r}")
     return BallMotion(w_m, w_r, f_c, np.hypot(v_xs, v_ys), np.abs(v_yn))

@@ -38,7 +38,7 @@ class WearTable:
     """g(F, w) = (dh/dt)/w for screw and nut on a ln(F) x w grid (see module docstring)."""
 
     def __init__(self, unit: UnitParams, options: ModelOptions, envelope: Envelope = ENVELOPE,
-                 n_force: int = 361, n_speed: int = 41) -> None:
+                 n_force: int = 1201, n_speed: int = 41) -> None:
         self.envelope = envelope
         self._l0 = np.log(envelope.force_min)
         self._hl = (np.log(envelope.force_max) - self._l0) / (n_force - 1)
