@@ -20,14 +20,16 @@ they are simulated in parallel batches (vectorised over the batch axis); the
 clearance of the i-th application of a batch is the clearance at the batch
 start plus i times the growth per application measured on the previous batch
 (a linear extrapolation within the batch, exact when growth per application is
-steady). Each application starts at the exact rest angle; the release leaves
-the drive within ``rest_tolerance`` (0.01 rad at the motor, 0.3 µm of nut
-travel) of it, which is dropped at the idle boundary between applications.
+steady; the first application runs alone to measure it). Each application
+starts at the exact rest angle; the release leaves the drive within
+``rest_tolerance`` (0.01 rad at the motor, 1.6 µm of nut travel for a 5 mm
+lead) of it, which is dropped at the idle boundary between applications.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -184,9 +186,8 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
 
     total = np.zeros(3)
     if core is not None and prior_cycles > 0:
-        first = run(plant, 0, min(batch, cycles))
-        per_cycle = _cycle_wear(core[0], first, plant.gear_ratio, dt).mean(axis=1)
-        total = per_cycle * prior_cycles
+        first = run(plant, 0, 1)
+        total = _cycle_wear(core[0], first, plant.gear_ratio, dt)[:, 0] * prior_cycles
     wear_after = np.zeros((3, cycles))
     clearance_during, clearance_after = np.zeros(cycles), np.zeros(cycles)
     records: list[tuple[ClosedLoopRecord, int]] = []
@@ -195,8 +196,10 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=cycles, unit="cycle", desc="simulate")
-    for lo in range(0, cycles, batch):
-        hi = min(lo + batch, cycles)
+    # with wear on, the first application runs alone to measure the growth per application
+    bounds = [0, 1] if core is not None else [0]
+    bounds = sorted({*bounds, *range(bounds[-1] + batch, cycles, batch), cycles})
+    for lo, hi in itertools.pairwise(bounds):
         start = base_clearance + growth(total)
         clearance = start + step * np.arange(hi - lo)
         record = run(with_clearance(clearance), lo, hi)
