@@ -29,7 +29,7 @@ from ebm_wear_monitor.params.unit import UnitParams
 from ebm_wear_monitor.physics.archard import ball_rate
 from ebm_wear_monitor.physics.contact import solve
 from ebm_wear_monitor.physics.options import ModelOptions, make_options
-from ebm_wear_monitor.physics.surrogate import WearTable
+from ebm_wear_monitor.physics.surrogate import Envelope, WearTable, operating_envelope
 
 METHODS = ("surrogate", "direct")
 
@@ -53,6 +53,13 @@ class WearModel:
         self.method = method
         self.options = options or ModelOptions()
         self.table = WearTable(unit, self.options) if method == "surrogate" else None
+
+    @property
+    def operating_envelope(self) -> Envelope:
+        """Force/speed range where the rate is monotone and the surrogate is within 0.5 % (see surrogate)."""
+        if self.table is not None:
+            return self.table.operating
+        return operating_envelope(self.unit, self.options)
 
     def _direct(self, force: NDArray, speed: NDArray) -> tuple[NDArray, NDArray]:
         if force.size == 0:

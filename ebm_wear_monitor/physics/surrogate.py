@@ -23,19 +23,42 @@ from ebm_wear_monitor.physics.options import ModelOptions
 
 
 class Envelope(NamedTuple):
-    """Operating envelope covered by the table: axial force [N] and screw speed [rad/s] magnitudes."""
+    """A rectangle of axial force [N] and screw speed [rad/s] magnitudes."""
 
     force_min: float = 10.0
     force_max: float = 80.0e3
     speed_max: float = 200.0
 
 
-ENVELOPE = Envelope()
+ENVELOPE = Envelope()  # range of the table (covers overloads past the elastic-plastic switch)
 SPEED_FLOOR = 1e-6  # speed at which the w = 0 column of g is evaluated [rad/s]
 
 
+def _below_switch(envelope: Envelope, force: NDArray, plastic: NDArray) -> Envelope:
+    """Part of ``envelope`` below the first force where a contact is elastic-plastic at any speed."""
+    first = plastic.any(axis=1)
+    onset = float(force[np.argmax(first)]) if first.any() else envelope.force_max
+    return Envelope(envelope.force_min, onset, envelope.speed_max)
+
+
+def operating_envelope(unit: UnitParams, options: ModelOptions, envelope: Envelope = ENVELOPE,
+                       n_force: int = 1201) -> Envelope:
+    """Operating envelope: ``envelope`` cut at the first elastic-plastic contact (000 eq. 6).
+
+    Inside it the wear rate is non-decreasing in |F| and |w| (tested). Past the switch
+    Horng's plastic area of eq. 7 grows faster than the Hertz load of eq. 1 allows, so
+    the rate dips before it rises again: a property of 000's model, not of the solver.
+    """
+    force = np.exp(np.linspace(np.log(envelope.force_min), np.log(envelope.force_max), n_force))
+    _, screw, nut = solve(unit, force, np.zeros_like(force), options)
+    return _below_switch(envelope, force, (screw.plastic | nut.plastic)[:, None])
+
+
 class WearTable:
-    """g(F, w) = (dh/dt)/w for screw and nut on a ln(F) x w grid (see module docstring)."""
+    """g(F, w) = (dh/dt)/w for screw and nut on a ln(F) x w grid (see module docstring).
+
+    ``operating`` is the :func:`operating_envelope` of the table's parameter set.
+    """
 
     def __init__(self, unit: UnitParams, options: ModelOptions, envelope: Envelope = ENVELOPE,
                  n_force: int = 1201, n_speed: int = 41) -> None:
@@ -52,6 +75,7 @@ class WearTable:
         w = ww.ravel()
         self._screw = screw.wear_rate / w
         self._nut = nut.wear_rate / w
+        self.operating = _below_switch(envelope, ff[:, 0], (screw.plastic | nut.plastic).reshape(ff.shape))
 
     def inside(self, force: NDArray, speed: NDArray) -> NDArray:
         """Mask of samples inside the envelope (|F| in [F_min, F_max], |w| <= w_max)."""
