@@ -88,7 +88,8 @@ def test_surrogate_falls_back_to_the_direct_solve_outside_the_table():
 def test_ball_share_and_clearance_geometry():
     r = wear_model(UNIT).rates(10e3, 20.0)
     share = UNIT.wear.raceway_share
-    assert float(r.ball) == pytest.approx((1 - share) / share * (float(r.screw) + float(r.nut)) / 2, rel=1e-12)
+    expected = (1 - share) / share * (float(r.screw) + float(r.nut)) / 2
+    assert float(r.ball) == pytest.approx(expected, rel=1e-12)
     # only the screw raceway worn by 1 um: the nut moves back 1 um / (sin 45 deg cos phi)
     axial = math.sin(math.radians(45.0)) * math.cos(math.radians(2.8473))
     assert clearance_growth(UNIT, 1e-6, 0.0, 0.0) == pytest.approx(1e-6 / axial, rel=1e-12)
