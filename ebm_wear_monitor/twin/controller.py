@@ -132,15 +132,17 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
         force_law = e_ff + force_gain * (demands - measured) - c.speed_damping * speed
         position_law = -c.position_gain * angle - c.speed_damping * speed
         position_law = position_law + np.sign(position_law) * breakaway_volts
-        volts = np.select([phase == CLEARANCE, (phase == GENERATION) | (phase == MAINTENANCE),
-                           phase == RELEASE], [model.supply_voltage, force_law, position_law], 0.0)
+        volts = np.where(phase == CLEARANCE, model.supply_voltage,
+                         np.where((phase == GENERATION) | (phase == MAINTENANCE), force_law,
+                                  np.where(phase == RELEASE, position_law, 0.0)))
         volts = limit_voltage(model, volts, speed)
         sample = (angle, speed, force, current, volts)
         torque_sum, friction_sum = 0.0, 0.0
         for _ in range(substeps):
             current, mean_current = electrical_step(model, current, volts, speed, h)
             torque = model.torque_constant * mean_current
-            angle, speed, _, friction = mechanical_step(model, angle, speed, torque, h)
+            angle, speed, _, friction = mechanical_step(model, angle, speed, torque, h, force=force)
+            force = None
             torque_sum, friction_sum = torque_sum + torque, friction_sum + friction
         rows.append((*sample, torque_sum / substeps, friction_sum / substeps, phase))
         since = since + dt

@@ -132,13 +132,16 @@ def electrical_step(model: ActuatorModel, current: np.ndarray, voltage: np.ndarr
 
 
 def mechanical_step(model: ActuatorModel, angle: np.ndarray, speed: np.ndarray, motor_torque: np.ndarray,
-                    dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                    dt: float, *, force: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Advance eq. 1 with the switched friction of eq. 9 by ``dt``.
 
+    ``force`` is the clamp force at ``angle`` when the caller has it already.
     Returns (motor angle [rad], motor speed [rad/s], clamp force at the step start [N],
     friction torque applied over the step [N m]).
     """
-    force = model.clamp_force(angle)
+    if force is None:
+        force = model.clamp_force(angle)
     load = model.transmission * force
     drive = motor_torque - load
     law, J = model.friction, model.inertia

@@ -56,10 +56,10 @@ def friction_law(unit: UnitParams) -> FrictionLaw:
                        load_coefficient=f.load_coefficient)
 
 
-def _efficiency_term(law: FrictionLaw, speed: np.ndarray, load_torque: np.ndarray) -> np.ndarray:
+def _efficiency_term(law: FrictionLaw, speed: np.ndarray, load_torque: np.ndarray) -> np.ndarray | float:
     """Extra friction ``T_L (1/η(ω) - 1/η_0)`` of a speed-dependent screw efficiency [N m]."""
     if law.efficiency_drop == 0.0:
-        return np.zeros_like(np.asarray(load_torque, float))
+        return 0.0
     drop = law.efficiency_drop * np.exp(-np.abs(speed) / law.efficiency_speed)
     return np.abs(load_torque) * (1.0 / (1.0 - drop) - 1.0) / law.screw_efficiency
 

@@ -127,7 +127,7 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
                   wear_acceleration: float = 1.0, *, hold_s: float | Sequence[float] = 1.0,
                   rest_s: float = 0.5, noise: SensorNoise = DEFAULT_NOISE, prior_cycles: int = 0,
                   wear: bool = True, wear_method: str = "surrogate",
-                  controller: BrakeController = DEFAULT_CONTROLLER, batch: int = 32,
+                  controller: BrakeController = DEFAULT_CONTROLLER, batch: int = 64,
                   progress: bool = False) -> SimResult:
     """Simulate ``cycles`` brake applications of one unit at ``rate_hz`` (1 kHz default).
 
