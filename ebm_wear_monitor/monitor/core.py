@@ -113,7 +113,7 @@ class MonitorSnapshot:
     input_faults_by_signal: dict[str, dict[str, int]]
     input_rates_hz: dict[str, float | None]  # accepted samples per second of stamp span
     segments: dict[str, int]  # closed segments per kind (cycle, incomplete, motion, interrupted, partial)
-    last_stamp_ns: int | None  # newest sample whose fate is decided
+    last_stamp_ns: int | None  # end of the last closed segment: data up to here is integrated [ns]
     pending_samples: int  # samples still waiting in the reorder window / undecided rest run
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -235,8 +235,6 @@ class MonitorCore:
                 if (self.state_path is not None
                         and self._st.duty_cycles % self.config.checkpoint_every_cycles == 0):
                     self.save()
-        if self._segmenter.last_consumed_ns is not None:
-            self._st.last_stamp_ns = self._segmenter.last_consumed_ns
         return out
 
     def _integrate(self, seg: Segment) -> CycleSummary | None:
@@ -255,6 +253,7 @@ class MonitorCore:
             st.wear_nut_m += float(phase_wear[1, k])
             st.wear_ball_m += float(phase_wear[2, k])
         st.segments[seg.kind] = st.segments.get(seg.kind, 0) + 1
+        st.last_stamp_ns = seg.end_ns
         if seg.kind == "interrupted":
             self._aligner.count("stream", "interrupted_cycle", 1)
         if seg.kind != "cycle":
@@ -262,7 +261,7 @@ class MonitorCore:
 
         st.duty_cycles += 1
         st.first_cycle_ns = seg.start_ns if st.first_cycle_ns is None else st.first_cycle_ns
-        st.last_cycle_ns = seg.end_ns
+        st.last_cycle_ns = seg.start_ns
         model = self.model_clearance()
         cfg = self.config
         growth = model - st.model_clearance_at_filter_m

@@ -123,11 +123,6 @@ class Segmenter:
         self._dwell_ns = round(config.rest_dwell_s * 1e9)
         self._ring_size = int(config.rest_angle_samples)
 
-    @property
-    def last_consumed_ns(self) -> int | None:
-        """Stamp of the last sample whose fate is decided [ns]."""
-        return self._prev_ns
-
     # ------------------------------------------------------------------ helpers
     def _consume(self, a: int, b: int, label: int) -> None:
         if b <= a:

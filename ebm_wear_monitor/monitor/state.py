@@ -40,8 +40,8 @@ class MonitorState:
     sum_f3_rot: float = 0.0  # sum |F|^3 |d theta| [N^3 rad] (ISO 3408-5 cubic-mean load)
     sum_rot_rad: float = 0.0  # sum |d theta| [rad]
     first_cycle_ns: int | None = None  # start of the first completed application [ns]
-    last_cycle_ns: int | None = None  # end of the last completed application [ns]
-    last_stamp_ns: int | None = None  # data at or before this stamp is already integrated [ns]
+    last_cycle_ns: int | None = None  # start of the last completed application [ns] (usage rate)
+    last_stamp_ns: int | None = None  # end of the last closed segment [ns]: data up to it is integrated
     input_faults: dict[str, dict[str, int]] = field(default_factory=dict)  # per topic (and "stream")
     version: int = STATE_VERSION
 

@@ -1,0 +1,91 @@
+"""Duty-cycle segmentation against closed-form applications with known phase boundaries."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+from monitor_synth import linear_rates, screw_growth, synth_cycles
+
+from ebm_wear_monitor.monitor import MonitorCore
+
+
+def _run(unit, synth, **kw):
+    core = MonitorCore(unit, wear_rates=linear_rates(1e-9), clearance_growth=screw_growth, **kw)
+    for s, (t, v) in synth.signals().items():
+        core.add(s, t, v)
+    return core, core.process(final=True)
+
+
+@pytest.mark.parametrize("rate_hz", [1000.0, 100.0])
+def test_phase_boundaries_recovered_under_noise(unit, rate_hz):
+    synth = synth_cycles(8, rate_hz=rate_hz, noise=True, seed=int(rate_hz),
+                         clearance=lambda k: 0.2e-3 + 5e-6 * k, peak_force=lambda k: 8e3 + 2e3 * k)
+    core, cycles = _run(unit, synth)
+    assert [c.index for c in cycles] == list(range(1, 9))
+    tol = max(5e-3, 2.5 / rate_hz)  # thresholds cross a few samples after the true boundary
+    for c, mk in zip(cycles, synth.marks, strict=True):
+        ce, fg, fm, fr = c.phase_durations_s
+        assert c.start_s == pytest.approx(mk["start"], abs=tol)
+        assert ce == pytest.approx(mk["contact"] - mk["start"], abs=tol)
+        assert fg == pytest.approx(mk["apply_end"] - mk["contact"], abs=tol)
+        assert fm == pytest.approx(mk["release_start"] - mk["apply_end"], abs=tol)
+        assert fr == pytest.approx(mk["release_end"] - mk["release_start"], abs=tol)
+        assert c.end_s == pytest.approx(mk["release_end"], abs=tol)
+        assert c.screw_wear_m[2] < 0.02 * sum(c.screw_wear_m)  # no sliding while the force is held
+    assert core.snapshot().segments == {"cycle": 8}
+
+
+def test_clearance_observation_within_its_error_budget(unit):
+    truth = [0.2e-3 + 7e-6 * k for k in range(12)]
+    synth = synth_cycles(12, noise=True, seed=5, clearance=lambda k: truth[k])
+    _, cycles = _run(unit, synth)
+    for c, x in zip(cycles, truth, strict=True):
+        # the budget includes 1 um of thermal repeatability the synthetic data do not have: 3 sigma is loose
+        assert abs(c.clearance_observed_m - x) < 3.0 * c.clearance_observed_std_m
+        assert c.clearance_observed_std_m == pytest.approx(1.0e-6, rel=0.1)
+        assert c.stroke_rad == pytest.approx(x / (unit.ball_screw.lead / (2 * math.pi)) + 20e3 / (
+            unit.actuator.stiffness * unit.ball_screw.lead / (2 * math.pi)), abs=0.01)
+
+
+def test_stepped_demand_is_one_application(unit):
+    synth = synth_cycles(4, steps=2, hold_s=0.15, noise=True, seed=9)
+    _, cycles = _run(unit, synth)
+    assert len(cycles) == 4
+    for c, mk in zip(cycles, synth.marks, strict=True):
+        ce, fg, fm, fr = c.phase_durations_s
+        assert fm == pytest.approx(0.30, abs=0.01)  # two holds
+        assert ce + fg + fm == pytest.approx(mk["release_start"] - mk["start"], abs=0.01)
+        assert fr == pytest.approx(mk["release_end"] - mk["release_start"], abs=0.01)
+        assert c.peak_force_n == pytest.approx(20e3, rel=0.02)
+        assert math.isfinite(c.clearance_observed_m)
+
+
+def test_partial_applications_at_both_ends_are_not_counted(unit):
+    synth = synth_cycles(5, noise=True, seed=2)
+    first, last = synth.marks[0], synth.marks[-1]
+    keep = (synth.t > (first["apply_end"] + first["release_start"]) / 2) & (synth.t < last["contact"] + 0.01)
+    for k in ("t", "angle", "velocity", "force"):
+        setattr(synth, k, getattr(synth, k)[keep])
+    core, cycles = _run(unit, synth)
+    assert len(cycles) == 3
+    segs = core.snapshot().segments
+    assert segs == {"motion": 1, "cycle": 3, "partial": 1}
+    assert core.snapshot().wear_screw_m > sum(sum(c.screw_wear_m) for c in cycles)  # partial wear counted
+
+
+def test_noise_at_rest_makes_no_segments(unit):
+    rng = np.random.default_rng(0)
+    t = np.arange(20000) * 1e-3
+    core = MonitorCore(unit, wear_rates=linear_rates(1e-9), clearance_growth=screw_growth)
+    core.add("angle", t, np.round(rng.normal(0, 1e-4, t.size) / 3e-4) * 3e-4)
+    core.add("velocity", t, rng.normal(0, 0.05, t.size))
+    core.add("axial_force", t, rng.normal(0, 50.0, t.size))
+    assert core.process(final=True) == []
+    snap = core.snapshot()
+    assert snap.segments == {} and snap.wear_screw_m == 0.0
