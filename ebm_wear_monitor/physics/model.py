@@ -76,20 +76,18 @@ class WearModel:
         shape = f.shape
         f = f.ravel()
         w = np.abs(w.ravel())
-        screw = np.zeros(f.size)
-        nut = np.zeros(f.size)
-        loaded = (f > 0.0) & np.isfinite(f) & np.isfinite(w) & (w > 0.0)
-        if self.table is not None:
-            fast = loaded & self.table.inside(f, w)
-            if fast.all():
-                screw, nut = self.table.rates(f, w)
-            else:
-                screw[fast], nut[fast] = self.table.rates(f[fast], w[fast])
-            slow = loaded & ~fast
+        fast = self.table.inside(f, w) & (w > 0.0) if self.table is not None else np.zeros(f.shape, bool)
+        if self.table is not None and fast.all():  # the common case: one table look-up, no masking
+            screw, nut = self.table.rates(f, w)
         else:
-            slow = loaded
-        if slow.any():
-            screw[slow], nut[slow] = self._direct(f[slow], w[slow])
+            screw = np.zeros(f.size)
+            nut = np.zeros(f.size)
+            if self.table is not None and fast.any():
+                screw[fast], nut[fast] = self.table.rates(f[fast], w[fast])
+            # comparisons with NaN are False, so non-finite samples stay at rate 0
+            slow = ~fast & (f > 0.0) & np.isfinite(f) & (w > 0.0) & np.isfinite(w)
+            if slow.any():
+                screw[slow], nut[slow] = self._direct(f[slow], w[slow])
         ball = ball_rate(screw, nut, self.unit.wear.raceway_share)
         return WearRates(screw.reshape(shape), nut.reshape(shape), ball.reshape(shape))
 

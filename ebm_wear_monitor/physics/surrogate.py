@@ -73,8 +73,9 @@ class WearTable:
         ff, ww = np.meshgrid(np.exp(log_f), speed, indexing="ij")
         _, screw, nut = solve(unit, ff.ravel(), ww.ravel(), options)
         w = ww.ravel()
-        self._screw = screw.wear_rate / w
-        self._nut = nut.wear_rate / w
+        grids = [(side.wear_rate / w).reshape(ff.shape) for side in (screw, nut)]
+        # per cell (i, j): g = c0 + c1 fu + fv (c2 + c3 fu), screw in columns 0-3, nut in 4-7
+        self._coef = np.concatenate([_bilinear_coefficients(g) for g in grids], axis=-1).reshape(-1, 8)
         self.operating = _below_switch(envelope, ff[:, 0], (screw.plastic | nut.plastic).reshape(ff.shape))
 
     def inside(self, force: NDArray, speed: NDArray) -> NDArray:
@@ -84,19 +85,25 @@ class WearTable:
 
     def rates(self, force: NDArray, speed: NDArray) -> tuple[NDArray, NDArray]:
         """Bilinear table look-up for samples inside the envelope: (screw, nut) dh/dt [m/s]."""
-        u = (np.log(force) - self._l0) / self._hl
-        v = speed / self._hw
+        u = np.log(force)
+        u -= self._l0
+        u *= 1.0 / self._hl
+        v = speed * (1.0 / self._hw)
         i = np.minimum(u.astype(np.intp), self._n_force - 2)
         j = np.minimum(v.astype(np.intp), self._n_speed - 2)
         fu = u - i
         fv = v - j
-        k00 = i * self._n_speed + j
-        k10 = k00 + self._n_speed
-        w00 = (1.0 - fu) * (1.0 - fv) * speed
-        w01 = (1.0 - fu) * fv * speed
-        w10 = fu * (1.0 - fv) * speed
-        w11 = fu * fv * speed
-        out = []
-        for tab in (self._screw, self._nut):
-            out.append(tab[k00] * w00 + tab[k00 + 1] * w01 + tab[k10] * w10 + tab[k10 + 1] * w11)
-        return out[0], out[1]
+        i *= self._n_speed - 1
+        i += j
+        c = np.take(self._coef, i, axis=0).T.copy()  # one gather of a cell's 8 coefficients
+        screw = c[0] + fu * c[1] + fv * (c[2] + fu * c[3])
+        nut = c[4] + fu * c[5] + fv * (c[6] + fu * c[7])
+        screw *= speed
+        nut *= speed
+        return screw, nut
+
+
+def _bilinear_coefficients(g: NDArray) -> NDArray:
+    """Coefficients (c0, c1, c2, c3) of g = c0 + c1 fu + fv (c2 + c3 fu) on every grid cell."""
+    g00, g10, g01, g11 = g[:-1, :-1], g[1:, :-1], g[:-1, 1:], g[1:, 1:]
+    return np.stack([g00, g10 - g00, g01 - g00, g11 - g10 - g01 + g00], axis=-1)
