@@ -1,0 +1,103 @@
+"""``ebm-wear fleet DIR [--params P] [--scheduler ADDRESS] [--out DIR] [--json OUT]``: the fleet pipeline.
+
+Every unit folder under DIR (``<train>/<car>/<embu>/<date>.bag``) runs through
+the monitor core as one Dask task, on an embedded local cluster sized to the
+machine or on an existing scheduler (``--scheduler tcp://host:port``).
+Incremental and resumable: units whose bags (by content hash) and parameters
+are unchanged since the last run into the same ``--out`` are skipped; an
+interrupted run continues where it stopped. A failing bag is reported with its
+reason and the fleet continues. ``--generate N`` first writes a synthetic
+fleet of N units into DIR through the digital twin (demos and tests).
+Outputs in ``--out``: ``units.parquet``, ``applications.parquet``,
+``fleet_summary.csv`` (ranked by p05 remaining life), ``fleet.json``,
+``report/index.html``, ``manifest.json``, ``units/`` (per-unit results).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ebm_wear_monitor.errors import InputError
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Arguments of ``ebm-wear fleet``."""
+    parser.add_argument("dir", metavar="DIR", help="fleet directory tree of units' bags")
+    parser.add_argument("--params", metavar="P", default=None,
+                        help="unit parameter YAML, or a reference name (default: embu_000)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="existing Dask scheduler (tcp://host:port); default: a local cluster")
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help="worker processes of the local cluster (default: one per CPU core)")
+    parser.add_argument("--out", metavar="DIR", default="fleet_out",
+                        help="output directory (default: fleet_out)")
+    parser.add_argument("--json", metavar="OUT", help="also write the fleet JSON (replay layout) here")
+    parser.add_argument("--generate", type=int, metavar="N",
+                        help="first write a synthetic fleet of N units into DIR (DIR must not exist)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of --generate (default 0)")
+    parser.add_argument("--cycles-per-bag", type=int, default=12, help="--generate: applications per bag")
+    parser.add_argument("--bags-per-unit", type=int, default=2, help="--generate: bags (days) per unit")
+    parser.add_argument("--rate", type=float, default=200.0, help="--generate: sample rate [Hz]")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+
+
+def _check(args: argparse.Namespace) -> None:
+    from ebm_wear_monitor.cli.replay import check_output_file
+
+    check_output_file(args.json, "--json")
+    if Path(args.out).is_file():
+        raise InputError(f"--out {args.out}: is a file, expected a directory")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.scheduler and not args.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+        raise InputError(f"--scheduler {args.scheduler}: expected an address like tcp://host:port")
+    if args.generate is not None:
+        if (args.generate < 1 or args.cycles_per_bag < 2 or args.bags_per_unit < 1
+                or not 10 <= args.rate <= 20e3):
+            raise InputError("--generate needs N >= 1, --cycles-per-bag >= 2, --bags-per-unit >= 1, "
+                             "--rate 10..20000 Hz")
+        if Path(args.dir).exists():
+            raise InputError(f"{args.dir}: exists already; --generate writes a new fleet directory")
+    elif not Path(args.dir).is_dir():
+        raise InputError(f"{args.dir}: not a directory")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the fleet pipeline and print the ranking and failures."""
+    from tqdm import tqdm
+
+    from ebm_wear_monitor.fleet.cluster import dask_client
+    from ebm_wear_monitor.fleet.manifest import Manifest
+    from ebm_wear_monitor.fleet.pipeline import run_fleet
+    from ebm_wear_monitor.fleet.report import write_fleet_report
+    from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
+    from ebm_wear_monitor.fleet.tables import SUMMARY_COLUMNS, assemble, write_tables
+    from ebm_wear_monitor.params import load_unit
+    from ebm_wear_monitor.replay.output import write_json
+
+    _check(args)
+    params = load_unit(args.params)
+    out = Path(args.out)
+    with dask_client(args.scheduler, args.workers) as client:
+        if args.generate is not None:
+            units = scenarios(args.generate, args.seed, cycles_per_bag=args.cycles_per_bag,
+                              bags_per_unit=args.bags_per_unit, rate_hz=args.rate)
+            bags = generate_fleet(args.dir, units, params, client)
+            print(f"generated {len(units)} units, {len(bags)} bags in {args.dir}")
+        with tqdm(unit="unit", desc="fleet", disable=args.no_progress or None, file=sys.stderr) as bar:
+            fleet = run_fleet(client, args.dir, out, params, on_unit=lambda _: bar.update())
+    tables = assemble(out, list(fleet.units), Manifest.load(out))
+    write_tables(out, tables)
+    write_fleet_report(out / "report", tables, f"ebm_wear_monitor fleet: {args.dir}")
+    if args.json:
+        write_json(args.json, tables.document)
+    print(f"{len(fleet.units)} units: {len(fleet.processed)} processed, "
+          f"{len(fleet.skipped)} unchanged (skipped)")
+    print(tables.units[SUMMARY_COLUMNS[:6]].head(10).to_string(index=False))
+    for failure in tables.document["failures"]:
+        print(f"failed: {failure['unit']} {failure['bag'] or ''}: {failure['reason']}")
+    print(f"outputs in {out}: units.parquet, applications.parquet, fleet_summary.csv, fleet.json, "
+          "report/index.html")
+    return 0

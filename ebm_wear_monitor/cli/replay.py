@@ -1,0 +1,87 @@
+"""``ebm-wear replay BAG... [--params P] [--json OUT] [--report DIR]``: the monitor core over recorded bags.
+
+Reads the input topics of every bag (several units by namespace, several bags
+per unit in time order), runs :class:`~ebm_wear_monitor.monitor.MonitorCore`
+over each unit exactly as the node does, prints wear, clearance and remaining
+life per unit, and writes the JSON of interface.md section 4 and an HTML
+report. Bad input: one line on stderr, exit status 2, nothing written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ebm_wear_monitor.errors import InputError
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Arguments of ``ebm-wear replay``."""
+    parser.add_argument("bags", nargs="+", metavar="BAG", help="rosbag2 bag directories (sqlite3 or mcap)")
+    parser.add_argument("--params", metavar="P", default=None,
+                        help="unit parameter YAML, or a reference name (default: embu_000)")
+    parser.add_argument("--json", metavar="OUT", help="write the replay JSON (interface.md section 4) here")
+    parser.add_argument("--report", metavar="DIR", help="write an HTML report with PNG plots into DIR")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bars on stderr")
+
+
+def check_output_file(path: str | None, option: str) -> None:
+    """Reject an output path that is an existing directory (before any work is done)."""
+    if path is not None and Path(path).is_dir():
+        raise InputError(f"{option} {path}: is a directory, expected a file path")
+
+
+def format_unit(entry: dict) -> str:
+    """Human-readable lines of one unit's section 4 entry (µm, mm, counts)."""
+    w, c, r = entry["wear"], entry["clearance"], entry["remaining_life"]
+
+    def mm(v: float | None) -> str:
+        return "n/a" if v is None else f"{v * 1e3:.4f} mm"
+
+    life = ("not yet measurable (no clearance growth resolved)" if r["cycles_p05"] is None else
+            f"p05 {r['cycles_p05']:.4g} / p50 {r['cycles_p50']:.4g} / p95 {r['cycles_p95']:.4g} applications")
+    faults = ", ".join(f"{k} {v}" for k, v in sorted(entry["input_faults"].items())) or "none"
+    lines = [f"{entry['unit']}: {entry['duty_cycles']} brake applications",
+             f"  wear depth: screw raceway {w['screw_raceway_m'] * 1e6:.4g} µm, nut raceway "
+             f"{w['nut_raceway_m'] * 1e6:.4g} µm, balls {w['ball_m'] * 1e6:.4g} µm",
+             f"  clearance x_ag: model {mm(c['model_m'])}, estimate {mm(c['estimate_m'])} ± {mm(c['std_m'])}"
+             f" (limit {mm(r['limit_m'])})",
+             f"  remaining life: {life}",
+             f"  input faults: {faults}"]
+    if entry.get("prognostics"):
+        p = entry["prognostics"]
+        lines.append(f"  vs ground truth: relative accuracy {p['relative_accuracy']}, alpha-lambda pass "
+                     f"{p['alpha_lambda_pass']}, prognostic horizon {p['prognostic_horizon_cycles']}")
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Replay, print, write JSON and report."""
+    from tqdm import tqdm
+
+    from ebm_wear_monitor.bagio import bag_message_count
+    from ebm_wear_monitor.params import load_unit
+    from ebm_wear_monitor.replay.output import write_json
+    from ebm_wear_monitor.replay.report import write_replay_report
+    from ebm_wear_monitor.replay.run import replay_bags
+
+    check_output_file(args.json, "--json")
+    if args.report is not None and Path(args.report).is_file():
+        raise InputError(f"--report {args.report}: is a file, expected a directory")
+    params = load_unit(args.params)
+    total = bag_message_count(args.bags)
+    quiet = args.no_progress
+    with tqdm(total=total, unit="msg", desc="read", disable=quiet or None, file=sys.stderr) as read_bar, \
+            tqdm(total=total, unit="msg", desc="monitor", disable=quiet or None, file=sys.stderr) as bar:
+        result = replay_bags(args.bags, params, read_progress=read_bar.update, progress=bar.update)
+    for unit in result.units:
+        print(format_unit(unit.to_json_dict()))
+    for where, why in result.rejected.items():
+        print(f"skipped {where}: {why}")
+    if args.json:
+        write_json(args.json, result.to_json_dict())
+    if args.report:
+        write_replay_report(args.report, result.units, result.rejected)
+        print(f"report: {Path(args.report) / 'index.html'}")
+    return 0

@@ -1,0 +1,161 @@
+"""The fleet pipeline: every unit's bags through the monitor core, one Dask task per unit.
+
+Flow (``run_fleet``): discover the units' bags (``fleet.discover``); hash the
+bags whose fingerprint changed (Dask tasks); skip units whose bag hashes and
+parameters match the manifest; submit one task per remaining unit (largest
+first, for load balance); as each finishes, write its result files and the
+manifest atomically (so an interrupted run resumes where it stopped); finally
+assemble the fleet tables, JSON and report from every unit's result file.
+
+What a task receives: the fleet root, the unit's bag paths (workers read the
+bags from a shared file system) and the unit parameters (scattered once to
+every worker). What it returns: the section 4 entries and the per-application
+table (a few hundred bytes per brake application). A unit that fails (all its
+bags unreadable, or any exception) is reported with its reason and the fleet
+continues; a bad bag among good ones is skipped and reported, the unit runs on
+the rest.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from ebm_wear_monitor import __version__
+from ebm_wear_monitor.bagio import read_bags
+from ebm_wear_monitor.fleet.discover import BagFile, content_hash, discover
+from ebm_wear_monitor.fleet.manifest import Manifest
+from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.replay.output import atomic_write, write_json
+from ebm_wear_monitor.replay.report import slug
+from ebm_wear_monitor.replay.result import UnitReplay
+from ebm_wear_monitor.replay.run import replay_unit, truth_by_namespace
+
+UNITS_DIR = "units"
+
+
+@dataclass
+class UnitOutcome:
+    """What one unit's task returns."""
+
+    unit: str                                   # folder relative to the fleet root
+    entries: list[UnitReplay] = field(default_factory=list)
+    failed_bags: dict[str, str] = field(default_factory=dict)   # bag relpath -> reason
+    rejected: dict[str, str] = field(default_factory=dict)      # "<bag>: <topic>" -> reason
+    error: str | None = None                    # why the whole unit failed, or None
+
+
+def entry_name(folder: str, namespace: str, namespaces: int) -> str:
+    """Unit name in the fleet output: the folder, plus the namespace when a folder holds several units."""
+    return folder if namespaces == 1 else f"{folder}{namespace}"
+
+
+def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams) -> UnitOutcome:
+    """Read one unit's bags (time order) and run the monitor core over them; never raises."""
+    outcome = UnitOutcome(folder)
+    try:
+        paths = [Path(root) / r for r in relpaths]
+        failed: dict[str, str] = {}
+        recording = read_bags(paths, failed=failed)
+        outcome.failed_bags = {Path(p).relative_to(root).as_posix(): why for p, why in failed.items()}
+        outcome.rejected = recording.rejected
+        truths = truth_by_namespace(recording)
+        for ns, data in recording.units.items():
+            result = replay_unit(data, params, truths.get(ns))
+            result.unit = entry_name(folder, ns, len(recording.units))
+            result.bags = [Path(b).relative_to(root).as_posix() for b in data.bags]
+            outcome.entries.append(result)
+        if not outcome.entries:
+            outcome.error = "; ".join(outcome.failed_bags.values()) or "no input data"
+    except Exception as exc:  # a fleet task must report, not crash the fleet
+        outcome.error = f"{type(exc).__name__}: {exc} (at {traceback.extract_tb(exc.__traceback__)[-1].name})"
+    return outcome
+
+
+def unit_file(folder: str) -> str:
+    """Result file of a unit folder, relative to OUT (slug + short hash: distinct folders never collide)."""
+    return f"{UNITS_DIR}/{slug(folder)}-{hashlib.sha1(folder.encode()).hexdigest()[:8]}.json"
+
+
+def save_outcome(out: Path, outcome: UnitOutcome) -> str:
+    """Write a unit's JSON (and its per-application Parquet table) atomically; returns the JSON's relpath."""
+    rel = unit_file(outcome.unit)
+    tables = [e.applications.assign(unit=e.unit) for e in outcome.entries if len(e.applications)]
+    parquet = out / rel.replace(".json", ".parquet")
+    if tables:
+        atomic_write(parquet, lambda tmp: pd.concat(tables).to_parquet(tmp, index=False))
+    else:
+        parquet.unlink(missing_ok=True)
+    write_json(out / rel, {"unit": outcome.unit, "error": outcome.error, "failed_bags": outcome.failed_bags,
+                           "rejected": outcome.rejected,
+                           "entries": [e.to_json_dict() for e in outcome.entries]})
+    return rel
+
+
+@dataclass
+class FleetRun:
+    """Bookkeeping of one ``run_fleet`` call."""
+
+    units: dict[str, list[BagFile]]
+    processed: list[str] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)
+
+
+def _hashes(client, root: Path, units: dict[str, list[BagFile]], manifest: Manifest) -> dict[str, str]:
+    bags = [b for bs in units.values() for b in bs]
+    todo = [b for b in bags if manifest.known_hash(b) is None]
+    fresh = client.gather(client.map(content_hash, [str(root)] * len(todo), [b.relpath for b in todo],
+                                     pure=False)) if todo else []
+    for bag, sha in zip(todo, fresh, strict=True):
+        manifest.remember(bag, sha)
+    return {b.relpath: manifest.bags[b.relpath]["sha256"] for b in bags}
+
+
+def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: UnitParams,
+              on_unit: Callable[[UnitOutcome], object] | None = None) -> FleetRun:
+    """Process every unit under ``root`` not already done into ``out`` on the Dask ``client``.
+
+    ``on_unit(outcome)`` is called as each unit finishes (progress bars). The
+    fleet tables are assembled afterwards with :func:`fleet.tables.assemble`.
+    """
+    from dask.distributed import as_completed
+
+    root, out = Path(root).resolve(), Path(out)
+    units = discover(root)
+    manifest = Manifest.load(out)
+    digest = f"{params.digest()}/{__version__}"
+    hashes = _hashes(client, root, units, manifest)
+    run = FleetRun(units)
+    pending = {}
+    params_future = client.scatter(params, broadcast=True)
+    order = sorted(units, key=lambda u: -sum(b.size for b in units[u]))
+    for folder in order:
+        unit_hashes = [hashes[b.relpath] for b in units[folder]]
+        if manifest.is_done(folder, unit_hashes, digest, out):
+            run.skipped.append(folder)
+            continue
+        future = client.submit(process_unit, str(root), folder, [b.relpath for b in units[folder]],
+                               params_future, pure=False)
+        pending[future] = (folder, unit_hashes)
+    manifest.save()  # the hashes, even if the run is interrupted now
+    for future in as_completed(list(pending)):
+        folder, unit_hashes = pending.pop(future)
+        try:
+            outcome = future.result()
+        except Exception as exc:  # the worker died or the task could not run: report, retry next run
+            outcome = UnitOutcome(folder, error=f"task failed: {type(exc).__name__}: {exc}")
+            unit_hashes = None
+        manifest.units[folder] = {"hashes": unit_hashes, "params_digest": digest,
+                                  "status": "failed" if outcome.error else "ok",
+                                  "file": save_outcome(out, outcome)}
+        manifest.save()
+        run.processed.append(folder)
+        if on_unit is not None:
+            on_unit(outcome)
+    return run

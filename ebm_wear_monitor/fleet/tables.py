@@ -1,0 +1,96 @@
+"""Fleet outputs assembled from the per-unit result files: Parquet tables, ranked summary, JSON.
+
+Written into OUT (each file atomically):
+
+* ``units.parquet``: one row per unit (the section 4 entry flattened, SI units,
+  plus status, error, bag count and prognostics metrics when ground truth is known),
+  ranked by ``cycles_p05`` ascending (most urgent first; units with no measurable
+  growth, then failed units, last);
+* ``applications.parquet``: one row per unit and completed brake application
+  (columns of ``replay.result.APPLICATION_COLUMNS`` plus ``unit``);
+* ``fleet_summary.csv``: the ranking for people (rank, unit, p05/p50/p95, clearance, status, reason);
+* ``fleet.json``: the replay layout of interface.md section 4 with ``unit`` the
+  folder relative to DIR, plus ``failures`` (unit, bag, reason).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ebm_wear_monitor.fleet.manifest import Manifest
+from ebm_wear_monitor.replay.output import atomic_write, write_json
+
+SUMMARY_COLUMNS = ["rank", "unit", "status", "cycles_p05", "cycles_p50", "cycles_p95", "clearance_estimate_m",
+                   "clearance_std_m", "limit_m", "duty_cycles", "input_faults_total", "bags", "error"]
+
+
+@dataclass
+class FleetTables:
+    """The assembled fleet outputs in memory."""
+
+    units: pd.DataFrame
+    applications: pd.DataFrame
+    document: dict
+
+
+def flatten(entry: dict) -> dict:
+    """One units-table row from a section 4 entry (plus the fleet's extra keys)."""
+    row = {"unit": entry["unit"], "duty_cycles": entry["duty_cycles"], **entry["wear"]}
+    row.update({f"clearance_{k}": v for k, v in entry["clearance"].items()})
+    row.update(entry["remaining_life"])
+    faults = entry.get("input_faults", {})
+    row["input_faults_total"] = sum(faults.values())
+    row["input_faults"] = json.dumps(faults, sort_keys=True)
+    row["bags"] = len(entry.get("bags", []))
+    row["messages"] = entry.get("messages", 0)
+    for key, value in (entry.get("prognostics") or {}).items():
+        row[f"prognostics_{key}"] = value
+    return row
+
+
+def assemble(out: Path, folders: list[str], manifest: Manifest) -> FleetTables:
+    """Gather the result files of ``folders`` (the units found in DIR now) into the fleet outputs."""
+    rows, apps, entries, failures = [], [], [], []
+    for folder in folders:
+        info = manifest.units.get(folder)
+        if info is None:
+            continue
+        result = json.loads((out / info["file"]).read_text(encoding="utf-8"))
+        failures += [{"unit": folder, "bag": bag, "reason": why}
+                     for bag, why in result["failed_bags"].items()]
+        if result["error"]:
+            if not result["failed_bags"]:
+                failures.append({"unit": folder, "bag": None, "reason": result["error"]})
+            rows.append({"unit": folder, "status": "failed", "error": result["error"]})
+            continue
+        for entry in result["entries"]:
+            entries.append(entry)
+            rows.append({**flatten(entry), "status": "ok", "error": None})
+        parquet = out / info["file"].replace(".json", ".parquet")
+        if parquet.exists():
+            apps.append(pd.read_parquet(parquet))
+    columns = list(dict.fromkeys([*SUMMARY_COLUMNS[1:], *(k for r in rows for k in r)]))
+    units = pd.DataFrame(rows, columns=columns)
+    keys = units.assign(_failed=units["status"] != "ok",
+                        _p05=pd.to_numeric(units["cycles_p05"], errors="coerce"))
+    units = units.loc[keys.sort_values(["_failed", "_p05", "unit"], na_position="last").index]
+    units.insert(0, "rank", np.arange(1, len(units) + 1))
+    units = units.reset_index(drop=True)
+    applications = pd.concat(apps, ignore_index=True) if apps else pd.DataFrame()
+    by_unit = {e["unit"]: e for e in entries}
+    document = {"units": [by_unit[u] for u in units["unit"] if u in by_unit], "failures": failures}
+    return FleetTables(units, applications, document)
+
+
+def write_tables(out: Path, tables: FleetTables) -> None:
+    """Write the Parquet tables, the ranked CSV summary and ``fleet.json`` into ``out``."""
+    atomic_write(out / "units.parquet", lambda tmp: tables.units.to_parquet(tmp, index=False))
+    atomic_write(out / "applications.parquet", lambda tmp: tables.applications.to_parquet(tmp, index=False))
+    atomic_write(out / "fleet_summary.csv",
+                 lambda tmp: tables.units[SUMMARY_COLUMNS].to_csv(tmp, index=False, float_format="%.6g"))
+    write_json(out / "fleet.json", tables.document)

@@ -1,0 +1,66 @@
+"""Writing results so that nothing is ever half-written: temporary sibling, then an atomic rename."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
+    """Call ``write(tmp)`` on a temporary file next to ``path``, then rename it onto ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    os.close(fd)
+    tmp = Path(name)
+    try:
+        write(tmp)
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
+
+
+def jsonable(value: object) -> object:
+    """``value`` with numpy scalars/arrays as Python numbers/lists and NaN/inf as null (JSON has no NaN)."""
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if np.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return value
+
+
+def write_json(path: str | os.PathLike, data: object) -> Path:
+    """Write ``data`` as indented JSON (numpy-aware, NaN -> null), atomically."""
+    text = json.dumps(jsonable(data), indent=2, allow_nan=False) + "\n"
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def publish_directory(build: Callable[[Path], object], target: str | os.PathLike) -> Path:
+    """Build files with ``build(tmpdir)`` in a temporary sibling directory, then move them into ``target``.
+
+    Every file is moved with an atomic rename, ``index.html`` (the entry point) last,
+    so a reader never sees a half-written file and the page never links missing images.
+    """
+    target = Path(target)
+    target.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        build(tmp)
+        for src in sorted(tmp.iterdir(), key=lambda p: p.name == "index.html"):
+            src.replace(target / src.name)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return target
