@@ -12,8 +12,10 @@ name                        augmentation (motor shaft, s = sgn(w_m); nut side fo
 viscous_friction            T_f += dB w_m (004 eq. 9, reason 1: lubricant drag left out)    dB [N m s/rad]
 load_friction               G -> G + dG in the moving and stick branches of 004 eq. 9        dG [N m/N]
                             (reasons 2 and 5: roughness, lubrication, coaxiality)
-efficiency_variation        T_f += s T_L (a_w |w_m| + a_F F): the loss factor 1/eta - 1 of  a_w [s/rad],
-                            004 eq. 29 varying linearly with speed and load (reason 3)      a_F [1/N]
+efficiency_variation        T_f += s T_L (a_0 + a_w |w_m|), stick band += a_0 T_L: the      a_0 [-],
+                            loss factor 1/eta - 1 of 004 eq. 29 varying with speed          a_w [s/rad]
+                            (reason 3); a_0 alone equals a change of G, so this effect
+                            nests load_friction and must earn its extra parameter
 preload_change              T_fs += dT_fs, T_fc += dT_fc (004 eq. 28-29, reason 4)           dT_fs, dT_fc
 stribeck                    T_f += s T_S exp(-(|w_m| / w_S)^2): friction falling from        T_S [N m],
                             static towards Coulomb over a speed range                       w_S [rad/s]
@@ -71,8 +73,8 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
                ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(nom.G, 1e-6),), ((0.0,),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
-               ("a_w", "a_F"), ("s/rad", "1/N"), lambda p: Augment(eff_speed=p[0], eff_force=p[1]),
-               (0.1 / max_speed, 0.1 / max_force), ((0.0, 0.0),)),
+               ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),
+               (0.1, 0.1 / max_speed), ((0.0, 0.0),)),
         Effect("preload_change", "preload different from design: static and Coulomb shift (004 reason 4)",
                ("dT_fs", "dT_fc"), ("N m", "N m"), lambda p: Augment(dT_fs=p[0], dT_fc=p[1]),
                (0.1 * nom.T_fs, 0.1 * nom.T_fc), ((0.0, 0.0),)),

@@ -12,17 +12,18 @@ rule on the smoothed velocity v and force F (a moving average over
 ``smooth_s``, 10 ms by default):
 
 * moving forward if v > eps_v, backward if v < -eps_v, at rest otherwise;
-* in contact if F > F_on;
+* in contact if F > F_0 + F_on, F_0 the force reading without contact, taken as
+  the 5th percentile of F (so that a force-sensor offset does not read as contact);
 * eps_v = max(5 sigma_v / sqrt(w), 0.02 * P99(|v|)) and
-  F_on = max(5 sigma_F / sqrt(w), 0.02 * P99(F)), with sigma the measured
+  F_on = max(5 sigma_F / sqrt(w), 0.02 * (P99(F) - F_0)), with sigma the measured
   noise (:func:`.noise.signal_noise`), w the smoothing window in samples and
   P99 the 99th percentile: five standard deviations of the smoothed noise, or
   2 % of the signal's range when the noise is smaller than that;
 * runs shorter than ``min_run_s`` (20 ms) are merged into the run before them
   (controller dither in force maintenance would otherwise flicker the label).
 
-A new brake cycle starts at each ``clearance_elimination`` run that follows a
-``force_release`` run.  (The monitor core has its own duty-cycle detector for
+A new brake cycle starts at the first forward run (``clearance_elimination``
+or ``force_generation``) after a ``force_release`` run.  (The monitor core has its own duty-cycle detector for
 the wear summaries; this rule needs only the four input signals and is used
 by the diagnosis so that it does not depend on the monitor's internals.)
 """
@@ -54,7 +55,7 @@ class Segmentation:
     phase: np.ndarray  # int8 per sample
     cycle: np.ndarray  # int32 per sample
     eps_velocity: float  # rest band of the screw velocity [rad/s]
-    force_on: float  # contact threshold of the axial force [N]
+    force_on: float  # contact threshold of the axial force reading [N] (includes the no-contact reading)
 
     @property
     def n_cycles(self) -> int:
@@ -74,8 +75,9 @@ def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> 
     v = uniform_filter1d(rec.velocity, w, mode="nearest")
     f = uniform_filter1d(rec.axial_force, w, mode="nearest")
     eps_v = max(5.0 * signal_noise(rec.velocity) / np.sqrt(w), 0.02 * np.percentile(np.abs(v), 99))
-    f_on = max(5.0 * signal_noise(rec.axial_force) / np.sqrt(w), 0.02 * np.percentile(f, 99))
-    contact = f > f_on
+    f0 = float(np.percentile(f, 5))
+    f_on = max(5.0 * signal_noise(rec.axial_force) / np.sqrt(w), 0.02 * (np.percentile(f, 99) - f0))
+    contact = f > f0 + f_on
     phase = np.full(rec.t.size, IDLE, dtype=np.int8)
     phase[(v > eps_v) & ~contact] = CLEARANCE
     phase[(v > eps_v) & contact] = GENERATION
@@ -91,7 +93,7 @@ def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> 
             codes[i] = codes[i - 1]
     phase = np.repeat(codes, lengths)
 
-    # cycle boundaries: a clearance-elimination run after a release run
+    # cycle boundaries: a forward run after a release run
     starts, lengths = _runs(phase)
     codes = phase[starts]
     new_cycle = np.zeros(codes.size, dtype=bool)
@@ -99,8 +101,8 @@ def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> 
     for i, c in enumerate(codes):
         if c == RELEASE:
             released = True
-        elif c == CLEARANCE and released:
+        elif c in (CLEARANCE, GENERATION) and released:
             new_cycle[i] = True
             released = False
     cycle = np.repeat(np.cumsum(new_cycle), lengths).astype(np.int32)
-    return Segmentation(phase, cycle, float(eps_v), float(f_on))
+    return Segmentation(phase, cycle, float(eps_v), float(f0 + f_on))

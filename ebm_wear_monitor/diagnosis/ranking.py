@@ -28,7 +28,13 @@ nominal twin's, ``gap_after`` the twin's with the fitted effect.
 sum of z^2 and k the effect's number of parameters: the share of the held-out
 squared residual the effect removes, less an Akaike penalty of 2 per parameter.
 
-**Verdict.**  Per held-out cycle c, the relative improvement
+**Verdict.**  Two tests, both needed for ``effect``.  (a) Misfit: where the
+top effect acts, the nominal twin's held-out residual exceeds the noise: a
+goodness-of-fit test of the held-out gap rows weighted by the square of the
+effect's correction (weighted chi-square, Satterthwaite degrees of freedom,
+level 0.05; :meth:`Scorer.misfit_p`).  A model error no larger than the noise
+is no reason to change the twin, however consistent.  (b) Per held-out cycle c,
+the relative improvement
 r_c = (S_before,c - S_after,c) / S_before,c.  Under "the effect is absent",
 parameters fitted on other cycles cannot lower the held-out residual on
 average (E r_c <= 0).  The top effect is declared when a one-sided t-test of
@@ -132,13 +138,32 @@ class Scorer:
         rows = self.row_cycles(m)
         return np.array([z2[rows == c].sum() for c in self.split.heldout_cycles])
 
-    def gap(self, aug: Augment) -> float:
-        """Held-out gap, metric ``excess_rms_over_noise`` (torque rows of blocks at rest left out)."""
+    def gap_rows(self, aug: Augment) -> np.ndarray:
+        """Held-out z of the rows the gap metric uses (torque rows of blocks at rest left out)."""
         m = self.split.heldout
-        z = self.z(aug, m)
         rows = np.concatenate((self.model.blocks.moving[m], np.ones(m.sum(), bool)))
-        ms = float(np.mean(z[rows] ** 2))
+        return self.z(aug, m)[rows]
+
+    def gap(self, aug: Augment) -> float:
+        """Held-out gap, metric ``excess_rms_over_noise``."""
+        ms = float(np.mean(self.gap_rows(aug) ** 2))
         return float(np.sqrt(max(ms - 1.0, 0.0)))
+
+    def misfit_p(self, aug: Augment) -> float:
+        """p-value of "the nominal twin fits the held-out data within the noise where ``aug`` acts".
+
+        Weighted mean square Q = sum(w z^2) / sum(w) with w = delta^2, delta the change of z
+        that ``aug`` makes on each held-out gap row.  Under noise alone (z ~ N(0, 1) independent of
+        the weights, which come from the calibration cycles) Q nu ~ chi^2(nu) with Satterthwaite's
+        nu = (sum w)^2 / sum w^2.
+        """
+        z = self.gap_rows(NOMINAL)
+        w = (z - self.gap_rows(aug)) ** 2
+        if not np.any(w > 0.0):
+            return 1.0
+        nu = w.sum() ** 2 / np.sum(w * w)
+        q = float(np.sum(w * z * z) / w.sum())
+        return float(stats.chi2.sf(q * nu, nu))
 
 
 def block_noise_shape(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
@@ -261,6 +286,7 @@ class Ranking:
 
     fits: list[EffectFit]  # best first
     gap_before: float
+    misfit_p: float  # chi-square p-value of the nominal twin on held-out data
     verdict: str  # "effect" | "none"
     alpha: float
 
@@ -274,11 +300,12 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     s_before = sc.cycle_sse(NOMINAL)
     fits = sorted((evaluate(sc, e, s_before) for e in catalog.values()), key=lambda f: -f.score)
     level = ALPHA / len(fits)
-    verdict = "effect" if fits[0].p_value < level and fits[0].score > 0.0 else "none"
+    misfit = sc.misfit_p(fits[0].augment)
+    found = misfit < ALPHA and fits[0].p_value < level and fits[0].score > 0.0
     top = fits[0]
     top.ties = [f.effect.name for f in fits[1:]
                 if f.score > 0.0 and paired_p(top.d_cycles / s_before, f.d_cycles / s_before) >= TIE_ALPHA]
-    return Ranking(fits, sc.gap(NOMINAL), verdict, level)
+    return Ranking(fits, sc.gap(NOMINAL), misfit, "effect" if found else "none", level)
 
 
 def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,

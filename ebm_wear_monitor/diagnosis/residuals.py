@@ -109,8 +109,8 @@ class Augment:
     dG: float = 0.0  # load coefficient change [N m / N]
     dT_fs: float = 0.0  # static friction change [N m]
     dT_fc: float = 0.0  # Coulomb friction change [N m]
-    eff_speed: float = 0.0  # d(1/eta - 1)/d|w_m|: extra loss per unit load torque and speed [s/rad]
-    eff_force: float = 0.0  # d(1/eta - 1)/dF: extra loss per unit load torque and force [1/N]
+    eff_base: float = 0.0  # a_0: change of the loss factor 1/eta - 1 at standstill [-]
+    eff_speed: float = 0.0  # a_w: its change per unit motor speed, d(1/eta)/d|w_m| [s/rad]
     stribeck_torque: float = 0.0  # extra friction at zero speed, decaying with speed [N m]
     stribeck_speed: float = 1.0  # Stribeck speed w_s of exp(-(|w_m|/w_s)^2) [rad/s], > 0
     stiffness_quad: float = 0.0  # k_2 of F = K_b d + k_2 d^2 [N/m^2]
@@ -126,7 +126,7 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
                      sign: np.ndarray | None = None, speed: np.ndarray | None = None) -> np.ndarray:
     """Moving branch of 004 eq. 9 with the corrections of ``aug`` [N m].
 
-    T_f = (T_fc + dT_fc + (G + dG) F) s + (B + dB) w_m + s T_L (a_w |w_m| + a_F F)
+    T_f = (T_fc + dT_fc + (G + dG) F) s + (B + dB) w_m + s T_L (a_0 + a_w |w_m|)
     + s T_S exp(-(|w_m| / w_S)^2), s = sgn(w_m), T_L = l F / (2 pi i_g).
     ``sign`` and ``speed`` default to sgn(w_m) and |w_m|; the residual model passes smoothed ones.
     """
@@ -134,7 +134,7 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     speed = np.abs(w_m) if speed is None else speed
     T_L = n.load_ratio * F
     T = (s * (n.T_fc + aug.dT_fc + (n.G + aug.dG) * F) + (n.B + aug.dB) * w_m
-         + s * T_L * (aug.eff_speed * speed + aug.eff_force * F))
+         + s * T_L * (aug.eff_base + aug.eff_speed * speed))
     if aug.stribeck_torque:
         T = T + s * aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2)
     return T
@@ -262,7 +262,7 @@ class ResidualModel:
         F = self.true_force(aug)
         T_L = n.load_ratio * F
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
-        band = np.maximum(n.T_fs + aug.dT_fs + (n.G + aug.dG) * F, 0.0)
+        band = np.maximum(n.T_fs + aug.dT_fs + (n.G + aug.dG) * F + aug.eff_base * T_L, 0.0)
         need = self.held_torque - T_L  # friction the stuck drive must supply
         excess = need - np.clip(need, -band, band)
         stuck = self.drive_torque - T_L - self.inertia_torque - excess
