@@ -103,7 +103,8 @@ def stall_torque_from_force(unit: UnitParams, force: float) -> float:
     return _transmission(unit) * force
 
 
-def energy_balance(motor_torque, friction_torque, load_torque, motor_speed, dt: float) -> dict[str, float]:
+def energy_balance(motor_torque: np.ndarray, friction_torque: np.ndarray, load_torque: np.ndarray,
+                   motor_speed: np.ndarray, dt: float) -> dict[str, float]:
     """004 eq. 43: W_i = ∫ T_m ω dt, W_f = ∫ T_f ω dt, W_L = ∫ T_L ω dt [J] and φ_f = W_f / W_i.
 
     Arrays at the motor shaft sampled every ``dt``; ``motor_speed`` is the mean speed over each

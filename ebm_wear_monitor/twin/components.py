@@ -40,6 +40,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.twin.friction import SCREW_EFFICIENCY
+
 
 @dataclass(frozen=True)
 class ComponentInputs:
@@ -50,7 +52,7 @@ class ComponentInputs:
     motor_static: float = 0.189  # T_fsm [N m] (Table 2)
     motor_coulomb: float = 0.154  # T_fcm [N m] (Table 2)
     motor_viscous: float = 1.77e-3  # B_m [N m s/rad] (Table 2)
-    screw_efficiency: float = 0.90  # η, forward, without preload [-]
+    screw_efficiency: float = SCREW_EFFICIENCY  # η, forward, without preload [-]
     preload: float = 10.0e3  # F_p [N]
     bearing_f0: float = 3.0  # SKF f_0 [-]
     bearing_f1: float = 0.0015  # SKF f_1 [-]

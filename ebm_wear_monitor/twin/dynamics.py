@@ -40,7 +40,7 @@ released rest position.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -173,7 +173,6 @@ class Trajectory:
     motor_torque: np.ndarray  # T_m = K_T I_a [N m], mean over the step that starts at the sample
     friction_torque: np.ndarray  # T_f applied over the step that starts at the sample [N m]
     voltage: np.ndarray | None = None  # armature voltage E_a [V] (voltage-driven runs)
-    extra: dict = field(default_factory=dict)
 
 
 def _initial(x0: tuple[float, float] | None, shape: tuple[int, ...], gear_ratio: float

@@ -34,6 +34,9 @@ import numpy as np
 
 from ebm_wear_monitor.params import UnitParams
 
+#: mean forward efficiency of the ball screw without preload, η_0 (a catalogue value; 004 prints none)
+SCREW_EFFICIENCY = 0.90
+
 
 @dataclass(frozen=True)
 class FrictionLaw:
@@ -46,7 +49,7 @@ class FrictionLaw:
     stribeck_speed: float = 0.0  # ω_s [rad/s]; 0: the step of eq. 9
     efficiency_drop: float = 0.0  # d, fractional drop of the screw efficiency at standstill [-]
     efficiency_speed: float = 10.0  # ω_η, speed over which the efficiency recovers [rad/s]
-    screw_efficiency: float = 0.9  # η_0, mean forward efficiency of the ball screw [-]
+    screw_efficiency: float = SCREW_EFFICIENCY  # η_0, mean forward efficiency of the ball screw [-]
 
 
 def friction_law(unit: UnitParams) -> FrictionLaw:

@@ -32,7 +32,7 @@ import dataclasses
 import itertools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -69,7 +69,6 @@ class SimResult:
     # voltage [V], motor_torque and friction_torque [N m] (motor shaft)
     truth: dict  # per-application ground truth (see :func:`simulate_unit`)
     phases: tuple[str, ...] = PHASES
-    extra: dict = field(default_factory=dict)
 
     def signals(self) -> dict[str, np.ndarray]:
         """The four input signals by name, as ``bagio.write_unit_bag`` takes them."""
@@ -95,6 +94,8 @@ class SimResult:
             "seed": tr["seed"],
             "phase_names": list(PHASES),
             "cycle_start_s": [float(v) for v in tr["cycle_start_s"]],
+            "phase_start_s": [[None if math.isnan(v) else float(v) for v in row]
+                              for row in tr["phase_start_s"].tolist()],
         }
 
 
@@ -152,7 +153,8 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     Ground truth (``result.truth``): ``wear_m`` {screw, nut, ball: cumulative wear depth after
     each application [m]}, ``clearance_m`` (x_ag during each application) and
     ``clearance_after_m`` [m], ``effects``, ``wear_acceleration``, ``demands_N``, ``hold_s``,
-    ``cycle_start_s``, ``noise_std``, ``eol_cycles`` (applications since new at which x_ag reaches
+    ``cycle_start_s``, ``phase_start_s`` (application x phase start times [s], phases as
+    :data:`PHASES`), ``noise_std``, ``eol_cycles`` (applications since new at which x_ag reaches
     the unit's ``monitor.clearance_limit``, extrapolated linearly; None without growth).
     """
     if isinstance(cycles, bool) or int(cycles) != cycles or cycles < 1:
@@ -252,6 +254,13 @@ def _assemble(plant: ActuatorModel, records: list[tuple[ClosedLoopRecord, int]],
     phase, cycle = clean.pop("phase").astype(np.int8), clean.pop("cycle")
     measured = measure(clean, noise, sensor, np.random.default_rng(truth["seed"]))
     truth["cycle_start_s"] = np.array(starts)
+    # start time of each phase of each application [s] (NaN if a phase never came)
+    first = np.full((len(starts), len(PHASES)), np.nan)
+    index = np.arange(offset)
+    key = cycle.astype(np.int64) * len(PHASES) + phase
+    keys, where = np.unique(key, return_index=True)
+    first.flat[keys] = index[where] * dt
+    truth["phase_start_s"] = first
     after = truth["clearance_after_m"]
     growth_per_cycle = (after[-1] - truth["clearance_m"][0]) / len(after) if len(after) else 0.0
     limit = truth["clearance_limit_m"]

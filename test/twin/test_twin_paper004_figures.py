@@ -136,3 +136,21 @@ def test_30kN_step_energy_against_the_paper():
     assert e["load_work_J"] == pytest.approx(spring, rel=0.01)  # ∫F dx of the linear clamp
     for key, paper in (("motor_work_J", 11.04), ("friction_work_J", 5.30), ("dissipation_ratio", 0.481)):
         assert 0.5 < e[key] / paper < 2.0, (key, e[key], paper)
+
+
+def test_calc_actuator_cli_gives_the_spec_json(tmp_path):
+    import json
+
+    import yaml
+
+    from ebm_wear_monitor.cli.main import main
+
+    params = tmp_path / "actuator_004.yaml"
+    params.write_text(yaml.safe_dump(UNIT.raw), encoding="utf-8")
+    out = tmp_path / "torques.json"
+    argv = ["calc", "actuator", "--params", str(params), "--clamp-force", "30000", "--json", str(out)]
+    assert main(argv) == 0
+    got = json.loads(out.read_text())
+    assert {"load_torque_Nm", "friction_torque_Nm", "motor_torque_Nm", "torque_transfer_ratio"} <= set(got)
+    assert got["load_torque_Nm"] == pytest.approx(2.364, abs=5e-4)
+    assert got["torque_transfer_ratio"] == pytest.approx(0.7356, abs=3e-4)

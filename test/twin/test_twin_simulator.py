@@ -30,6 +30,15 @@ def test_phases_in_order_and_named_as_the_spec(nominal):
         assert np.count_nonzero(phase == MAINTENANCE) == pytest.approx(300, abs=1)  # hold_s at 1 kHz
 
 
+def test_phase_start_times_in_the_ground_truth(nominal):
+    starts = nominal.truth["phase_start_s"]
+    for c in range(3):
+        for p in range(len(PHASES)):
+            first = np.flatnonzero((nominal.cycle == c) & (nominal.phase == p))[0]
+            assert starts[c, p] == pytest.approx(nominal.t[first])
+    assert nominal.ground_truth()["phase_start_s"][0][0] == 0.0
+
+
 def test_force_held_at_demand_and_released_to_rest(nominal):
     clean = nominal.clean
     for c, demand in enumerate([8e3, 16e3, 24e3]):
