@@ -1,2 +1,232 @@
-def main():
-    print("y")
+"""The live wear-monitor node (``wear_monitor``, console script ``ebm-wear-monitor``): a thin rclpy adapter.
+
+Everything that computes lives in the ROS-free monitor core
+(:mod:`ebm_wear_monitor.monitor`); ``ebm-wear replay`` drives the same core,
+so the node and the offline replay give identical numbers. The node only:
+
+1. subscribes to ``screw/angle``, ``screw/velocity`` and ``axial_force``
+   (interface.md section 2; sensor-data QoS by default) with raw callbacks that
+   append the serialised record to a list (:mod:`.inputs`);
+2. at ``process_rate_hz`` decodes each list in bulk and hands the arrays of
+   (header stamp [s], value) to ``core.add``, then calls ``core.process``;
+   alignment, duty-cycle segmentation, wear integration, the Kalman filter
+   and the remaining life all happen in there;
+3. publishes one ``duty_cycle`` and one ``wear`` message per completed brake
+   application, ``remaining_life`` (latched) after each, and ``/diagnostics``
+   at ``diagnostics_period_s`` (:mod:`.diagnostics`);
+4. persists the state atomically (the core's ``save_state``: temp file, fsync,
+   rename) every ``checkpoint_every_cycles`` applications and at shutdown
+   (SIGINT or SIGTERM: last inputs processed, state saved, exit 0), and resumes
+   it at start.
+
+Executor: the EventsExecutor, spun in ``spin_once(timeout_sec=0.2)`` steps
+(spun without a timeout it hangs in rclpy 9.1.2); ``executor:=single_threaded``
+switches to the SingleThreadedExecutor. Bad input never stops the node: the
+core counts and discards bad samples; an exception inside the core on one
+batch is logged, counted as ``core_errors`` and shown as ERROR in diagnostics.
+
+Start-up errors (bad parameter, unreadable unit file) print one line
+``ebm-wear-monitor: error: ...`` and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+import rclpy
+from diagnostic_msgs.msg import DiagnosticArray
+from rclpy.executors import Executor, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+
+from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
+from ebm_wear_monitor.bagio.types import FLOAT64_STAMPED
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.monitor import MonitorCore, load_state
+from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.ros import messages
+from ebm_wear_monitor.ros.diagnostics import Health, Thresholds, assess, diagnostic_array, unit_status
+from ebm_wear_monitor.ros.inputs import InputBuffer
+from ebm_wear_monitor.ros.parameters import MONITOR_NAMES, NodeParameters
+from ebm_wear_monitor.ros.qos import event_qos, input_qos, latched_qos
+
+NODE_NAME = "wear_monitor"
+#: the inputs the wear monitor needs (the motor current is for the twin only)
+SIGNALS = ("angle", "velocity", "axial_force")
+STATE_FILE = "monitor_state.json"
+#: fault kinds of the core that are normal operation, not a reason to WARN (still shown as key-values)
+BENIGN_FAULTS = frozenset({"out_of_order"})
+
+
+def _check_writable(directory: Path) -> None:
+    """Create the state directory and prove it writable now, not at the first checkpoint."""
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        probe = directory / f".write-test-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise InputError(f"state directory {directory}: not writable ({exc.strerror or exc})") from None
+
+
+class WearMonitorNode:
+    """The adapter between one rclpy ``Node`` and one ``MonitorCore`` (one EMBU)."""
+
+    def __init__(self, node: Node, params: NodeParameters) -> None:
+        self.node = node
+        self.params = params
+        self.unit = load_unit(params.unit_params_file or None)
+        self.state_path = params.state_dir() / STATE_FILE
+        _check_writable(self.state_path.parent)
+        state, problems = load_state(self.state_path)
+        for problem in problems:
+            node.get_logger().warning(problem)
+        self.state_note = "; ".join(problems)
+        # the core saves the state atomically every checkpoint_every_cycles applications, before
+        # returning them: a published application is never newer than what a restart resumes from
+        self.core = MonitorCore(self.unit, params.monitor_config, state, state_path=self.state_path)
+        params.listeners.append(self.on_parameters)
+        self.core_errors = 0
+        self.core_error = ""
+        self.faults_reported = 0
+        self.wrong_type_publishers = 0
+
+        qos = input_qos(params.qos_reliability == "reliable", params.qos_depth)
+        msg_type = messages.Float64Stamped
+        self.inputs = {s: InputBuffer(s) for s in SIGNALS}
+        self._subs = [node.create_subscription(msg_type, INPUT_TOPICS[s], self.inputs[s].pending.append, qos,
+                                               raw=True) for s in SIGNALS]
+        self.pub_wear = node.create_publisher(messages.WearState, "wear", event_qos())
+        self.pub_cycle = node.create_publisher(messages.DutyCycle, "duty_cycle", event_qos())
+        self.pub_life = node.create_publisher(messages.RemainingLife, "remaining_life", latched_qos())
+        self.pub_diag = node.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        # (step takes no argument: rclpy hands a TimerInfo to timer callbacks that accept one)
+        node.create_timer(1.0 / params.process_rate_hz, self.step)
+        node.create_timer(params.diagnostics_period_s, self.publish_diagnostics)
+        self.publish_remaining_life()
+        node.get_logger().info(
+            f"monitoring unit {self.unit.name} ({params.unit_params_file or 'reference'}), "
+            f"state {self.state_path}, {self.core.snapshot().duty_cycles} applications so far")
+
+    # ------------------------------------------------------------------ processing
+    def step(self) -> None:
+        """Push every buffered input through the core; publish what completed (the core checkpoints)."""
+        try:
+            for s, buffer in self.inputs.items():
+                stamps, values = buffer.drain()
+                if len(stamps):
+                    self.core.add(s, stamps, values)
+            cycles = self.core.process(False)
+        except Exception as exc:  # bad input must never stop the node
+            self.core_errors += 1
+            self.core_error = " ".join(str(exc).split())[:200] or type(exc).__name__
+            self.node.get_logger().error(f"monitor core failed on a batch: {self.core_error}",
+                                         throttle_duration_sec=5.0)
+            return
+        if not cycles:
+            return
+        snap = self.core.snapshot()
+        for cycle in cycles:
+            self.pub_cycle.publish(messages.duty_cycle(cycle))
+        self.pub_wear.publish(messages.wear_state(snap))
+        self.publish_remaining_life(snap)
+
+    def on_parameters(self, names: set[str]) -> None:
+        """A validated parameter change: hand changed core thresholds to the core."""
+        if names & MONITOR_NAMES:
+            self.core.configure(self.params.monitor_config)
+
+    def publish_remaining_life(self, snap=None) -> None:
+        self.pub_life.publish(messages.remaining_life(snap or self.core.snapshot()))
+
+    def close(self) -> None:
+        """Shutdown: process what is buffered, then save the state (atomic: temp file, fsync, rename)."""
+        self.step()
+        self.core.save()
+
+    # ------------------------------------------------------------------ diagnostics
+    def _count_wrong_type_publishers(self) -> int:
+        count = 0
+        for sub in self._subs:
+            for info in self.node.get_publishers_info_by_topic(sub.topic_name):
+                count += info.topic_type != FLOAT64_STAMPED
+        return count
+
+    def publish_diagnostics(self) -> None:
+        snap = self.core.snapshot()
+        self.wrong_type_publishers = self._count_wrong_type_publishers()
+        faults = {k: v for k, v in snap.input_faults.items() if k not in BENIGN_FAULTS}
+        faults["undecodable"] = sum(b.undecodable for b in self.inputs.values())
+        faults["wrong_type_publishers"] = self.wrong_type_publishers
+        faults["core_errors"] = self.core_errors
+        total = sum(faults.values())
+        rates = {s: b.rate_hz() for s, b in self.inputs.items()}
+        ages = {s: b.age_s() for s, b in self.inputs.items()}
+        p = self.params
+        level, text = assess(
+            Health(clearance_estimate_m=snap.clearance_estimate_m, clearance_limit_m=snap.limit_m,
+                   cycles_p05=math.nan if snap.cycles_p05 is None else snap.cycles_p05,
+                   input_rate_hz=rates, input_age_s=ages,
+                   new_faults=total - self.faults_reported, core_error=self.core_error),
+            Thresholds(p.stale_timeout_s, p.min_input_rate_hz, p.clearance_warn_fraction,
+                       p.remaining_cycles_warn))
+        self.faults_reported = total
+        ns = self.node.get_namespace()
+        values = messages.diagnostic_values(snap) | {f"rate_{s}_hz": r for s, r in rates.items()}
+        values |= {f"received_{s}": b.received for s, b in self.inputs.items()}
+        values |= {f"age_{s}_s": a for s, a in ages.items()}
+        values |= {f"fault_{k}": v for k, v in faults.items() if k not in snap.input_faults}
+        values |= {"state_file": str(self.state_path), "state_note": self.state_note}
+        status = unit_status(self.node.get_fully_qualified_name(), ns.strip("/") or "/", level, text, values)
+        self.pub_diag.publish(diagnostic_array(self.node.get_clock().now().to_msg(), [status]))
+
+
+def make_executor(kind: str) -> Executor:
+    """``events`` -> rclpy's EventsExecutor (spin it with a timeout!), else the SingleThreadedExecutor."""
+    if kind == "events":
+        from rclpy.experimental import EventsExecutor
+        return EventsExecutor()
+    return SingleThreadedExecutor()
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the node until SIGINT/SIGTERM; exit 0 after saving the state, 2 on a start-up error."""
+    args = list(sys.argv if argv is None else argv)
+    stop: list[int] = []
+
+    def request_stop(signum: int, _frame: object) -> None:
+        stop.append(signum)
+
+    signal.signal(signal.SIGINT, request_stop)
+    signal.signal(signal.SIGTERM, request_stop)
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    node = None
+    try:
+        node = Node(NODE_NAME)
+        try:
+            params = NodeParameters(node)
+            monitor = WearMonitorNode(node, params)
+        except InputError as exc:
+            print(f"ebm-wear-monitor: error: {exc}", file=sys.stderr)
+            return 2
+        executor = make_executor(params.executor)
+        executor.add_node(node)
+        while not stop:
+            executor.spin_once(timeout_sec=0.2)
+        monitor.close()
+        executor.shutdown(timeout_sec=1.0)
+        node.get_logger().info(f"stopped by signal {stop[0]}; state saved to {monitor.state_path}")
+        return 0
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

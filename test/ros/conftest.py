@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import json
 import os
+import queue
 import signal
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -66,6 +69,45 @@ def make_bag(tmp_path: Path):
 
 
 # --------------------------------------------------------------------------- processes
+class Lines:
+    """A child's stdout lines, read by a thread (waiting never blocks the pipe); JSON lines parsed."""
+
+    def __init__(self, proc: subprocess.Popen) -> None:
+        self.q: queue.Queue[str] = queue.Queue()
+        self.seen: list[dict] = []
+        threading.Thread(target=self._pump, args=(proc,), daemon=True).start()
+
+    def _pump(self, proc: subprocess.Popen) -> None:
+        for line in proc.stdout:
+            self.q.put(line.rstrip("\n"))
+
+    def wait_for(self, text: str, timeout: float) -> None:
+        """Wait for a line equal to ``text``."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with contextlib.suppress(queue.Empty):
+                if self.q.get(timeout=0.05) == text:
+                    return
+        raise TimeoutError(f"no line {text!r} within {timeout} s")
+
+    def collect(self) -> list[dict]:
+        """Every JSON line received so far (accumulated in ``seen``)."""
+        while not self.q.empty():
+            line = self.q.get()
+            if line.startswith("{"):
+                self.seen.append(json.loads(line))
+        return self.seen
+
+    def wait_until(self, predicate, timeout: float) -> list[dict]:
+        """Collect until ``predicate(seen)`` holds; raises TimeoutError otherwise."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if predicate(self.collect()):
+                return self.seen
+            time.sleep(0.05)
+        raise TimeoutError(f"condition not met within {timeout} s; last: {self.seen[-3:]}")
+
+
 class Procs:
     """Child processes of one test; every one is killed (by its own pid) when the test ends."""
 
@@ -90,6 +132,12 @@ class Procs:
 
     def player(self, bag: Path, *args: str) -> subprocess.Popen:
         return self.start([sys.executable, "-m", "ebm_wear_monitor.ros.player", str(bag), *args])
+
+    def listener(self, namespace: str = "/embu", timeout: float = 30.0) -> Lines:
+        """The JSON-lines listener of the node's outputs, subscribed and ready."""
+        lines = Lines(self.start([sys.executable, "-m", "ebm_wear_monitor.ros.listener", namespace]))
+        lines.wait_for("READY", timeout)
+        return lines
 
     def kill_all(self) -> None:
         for proc in self.children:

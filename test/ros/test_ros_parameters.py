@@ -11,21 +11,31 @@ import yaml
 from ebm_wear_monitor.ros import diagnostics as diag
 from ebm_wear_monitor.ros.parameters import (
     AGGREGATOR_CONFIG_NAME,
+    NODE_SPECS,
+    SPEC_BY_NAME,
     SPECS,
     check_value,
     node_state_dir,
+    render_config,
     shipped_config_path,
 )
 
 
-def test_shipped_yaml_lists_every_parameter_with_the_declared_default() -> None:
-    data = yaml.safe_load(shipped_config_path().read_text())
-    params = data["/**"]["ros__parameters"]
+def test_rendered_parameter_file_reads_back_every_default_with_its_type() -> None:
+    params = yaml.safe_load(render_config())["/**"]["ros__parameters"]
     assert set(params) == {s.name for s in SPECS}
     for spec in SPECS:
         assert params[spec.name] == spec.default, spec.name
         assert type(params[spec.name]) is type(spec.default), spec.name  # ROS rejects int for double
         assert check_value(spec.name, spec.default) is None
+
+
+def test_shipped_parameter_file_never_overrides_a_default_with_a_stale_value() -> None:
+    """Every value in config/wear_monitor.yaml is the current default (regenerate: render_config)."""
+    params = yaml.safe_load(shipped_config_path().read_text())["/**"]["ros__parameters"]
+    assert {s.name for s in NODE_SPECS} <= set(params)
+    stale = {k: v for k, v in params.items() if k not in SPEC_BY_NAME or SPEC_BY_NAME[k].default != v}
+    assert not stale, "run: python -m ebm_wear_monitor.ros.parameters > config/wear_monitor.yaml"
 
 
 @pytest.mark.parametrize(("name", "value"), [

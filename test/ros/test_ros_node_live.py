@@ -1,0 +1,72 @@
+"""The node in one process, the bag player in a second, the listener in a third (issue 5 item 9).
+
+The node's numbers must equal the monitor core's run offline on the same bag
+(relative difference below 1e-9), because the node only feeds that core.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+
+import numpy as np
+import pytest
+
+from ebm_wear_monitor.bagio.reader import read_bags
+from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore, load_state
+from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.ros.node import STATE_FILE
+
+pytestmark = pytest.mark.ros
+
+#: WearState field -> MonitorSnapshot attribute
+WEAR_FIELDS = {"screw_raceway_m": "wear_screw_m", "nut_raceway_m": "wear_nut_m", "ball_m": "wear_ball_m",
+               "clearance_model_m": "clearance_model_m", "clearance_estimate_m": "clearance_estimate_m",
+               "clearance_std_m": "clearance_std_m", "wear_rate_factor": "wear_rate_factor"}
+
+
+def offline(bag):
+    """The monitor core fed the bag's arrays directly, as ``ebm-wear replay`` does: (cycles, snapshot)."""
+    unit = load_unit()
+    core = MonitorCore(unit, MonitorConfig(), None)
+    data = read_bags([bag]).units["/embu"]
+    for signal_name, sig in data.signals.items():
+        core.add(signal_name, sig.stamps, sig.values)
+    cycles = core.process(final=True)
+    return cycles, core.snapshot()
+
+
+def rel(a: float, b: float) -> float:
+    return abs(a - b) / max(abs(a), abs(b), 1e-300)
+
+
+@pytest.mark.timeout(90)
+def test_node_wear_equals_the_offline_core_on_the_same_bag(procs, make_bag, tmp_path) -> None:
+    bag, _ = make_bag(n_cycles=4, rate_hz=500.0)
+    cycles, snap = offline(bag)
+    assert len(cycles) == 4 and snap.duty_cycles == 4
+    lines = procs.listener()
+    node = procs.node("-r", "__ns:=/embu", state_dir=tmp_path / "state",
+                      params={"qos_reliability": "reliable"})
+    player = procs.player(bag, "--reliable", "--speed", "5")
+    assert player.wait(timeout=60) == 0, player.stderr.read()
+    seen = lines.wait_until(
+        lambda s: any(m["topic"] == "wear" and m["msg"]["duty_cycles"] == 4 for m in s), 30)
+    wear = [m["msg"] for m in seen if m["topic"] == "wear"][-1]
+    assert snap.wear_screw_m > 0 and snap.wear_nut_m > 0 and snap.wear_ball_m > 0
+    for name, attr in WEAR_FIELDS.items():
+        assert rel(wear[name], getattr(snap, attr)) < 1e-9, (name, wear[name], getattr(snap, attr))
+    duty = [m["msg"] for m in seen if m["topic"] == "duty_cycle"]
+    assert [d["index"] for d in duty] == [1, 2, 3, 4]
+    for d, c in zip(duty, cycles, strict=True):
+        assert rel(d["peak_force_n"], c.peak_force_n) < 1e-9
+        assert np.allclose(d["screw_wear_m"], c.screw_wear_m, rtol=1e-9, atol=0)
+    life = [m["msg"] for m in seen if m["topic"] == "remaining_life"]
+    assert life and math.isclose(life[-1]["limit_m"], load_unit().monitor.clearance_limit)
+
+    node.send_signal(signal.SIGINT)
+    assert node.wait(timeout=20) == 0, node.stderr.read()
+    state, _note = load_state(tmp_path / "state" / STATE_FILE)
+    resumed = MonitorCore(load_unit(), MonitorConfig(), state).snapshot()
+    assert resumed.duty_cycles == 4
+    assert rel(resumed.wear_screw_m, snap.wear_screw_m) < 1e-9
