@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ebm_wear_monitor.twin.dynamics import ActuatorModel, electrical_step, limit_voltage, mechanical_step
+from ebm_wear_monitor.twin.dynamics import ActuatorModel, limit_voltage, voltage_interval
 
 #: phase names; codes are the indices (interface.md section 4 names the first four)
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release", "idle")
@@ -98,7 +98,6 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
     c = controller
     demands, holds = np.asarray(demands, float), np.asarray(holds, float)
     batch, dt = demands.shape, 1.0 / rate_hz
-    h = dt / substeps
     e_ff = hold_voltage(model, demands)
     settle_band = np.maximum(c.force_tolerance * demands, 50.0)
     force_gain = c.loop_stiffness * model.resistance / (
@@ -137,14 +136,9 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
                                   np.where(phase == RELEASE, position_law, 0.0)))
         volts = limit_voltage(model, volts, speed)
         sample = (angle, speed, force, current, volts)
-        torque_sum, friction_sum = 0.0, 0.0
-        for _ in range(substeps):
-            current, mean_current = electrical_step(model, current, volts, speed, h)
-            torque = model.torque_constant * mean_current
-            angle, speed, _, friction = mechanical_step(model, angle, speed, torque, h, force=force)
-            force = None
-            torque_sum, friction_sum = torque_sum + torque, friction_sum + friction
-        rows.append((*sample, torque_sum / substeps, friction_sum / substeps, phase))
+        angle, speed, current, torque, friction = voltage_interval(
+            model, angle, speed, current, volts, dt=dt, substeps=substeps, force=force)
+        rows.append((*sample, torque, friction, phase))
         since = since + dt
         k += 1
     cols = [np.array(col) for col in zip(*rows, strict=True)]

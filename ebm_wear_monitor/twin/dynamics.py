@@ -154,6 +154,24 @@ def mechanical_step(model: ActuatorModel, angle: np.ndarray, speed: np.ndarray, 
     return angle + 0.5 * dt * (speed + new_speed), new_speed, force, friction
 
 
+def voltage_interval(model: ActuatorModel, angle: np.ndarray, speed: np.ndarray, current: np.ndarray,
+                     voltage: np.ndarray, *, dt: float, substeps: int = 1, force: np.ndarray | None = None
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Advance eq. 1 and 8 over one sample interval ``dt`` at a held armature ``voltage`` in
+    ``substeps`` steps. Returns (motor angle [rad], motor speed [rad/s], current [A], mean motor
+    torque [N m], mean friction torque [N m]) of the interval; ``force`` as in :func:`mechanical_step`.
+    """
+    h = dt / substeps
+    torque_sum, friction_sum = 0.0, 0.0
+    for _ in range(substeps):
+        current, mean_current = electrical_step(model, current, voltage, speed, h)
+        torque = model.torque_constant * mean_current
+        angle, speed, _, friction = mechanical_step(model, angle, speed, torque, h, force=force)
+        force = None
+        torque_sum, friction_sum = torque_sum + torque, friction_sum + friction
+    return angle, speed, current, torque_sum / substeps, friction_sum / substeps
+
+
 # --------------------------------------------------------------------------- open-loop integrations
 
 
@@ -243,22 +261,14 @@ def simulate_voltage_driven(model: UnitParams | ActuatorModel, t: np.ndarray, vo
     t, dt_sample = _sample_times(t, len(voltage))
     angle, speed = _initial(x0, voltage.shape[1:], model.gear_ratio)
     current = np.zeros_like(angle)
-    h = dt_sample / substeps
     out = {k: np.empty(voltage.shape) for k in ("angle", "speed", "force", "current", "torque", "friction",
                                                 "voltage")}
     for k in range(len(t)):
         out["angle"][k], out["speed"][k], out["current"][k] = angle, speed, current
-        applied = limit_voltage(model, voltage[k], speed)
-        out["voltage"][k] = applied
-        torque_sum, friction_sum = 0.0, 0.0
-        for j in range(substeps):
-            current, mean_current = electrical_step(model, current, applied, speed, h)
-            torque = model.torque_constant * mean_current
-            angle, speed, force, friction = mechanical_step(model, angle, speed, torque, h)
-            if j == 0:
-                out["force"][k] = force
-            torque_sum, friction_sum = torque_sum + torque, friction_sum + friction
-        out["torque"][k], out["friction"][k] = torque_sum / substeps, friction_sum / substeps
+        out["force"][k] = force = model.clamp_force(angle)
+        out["voltage"][k] = applied = limit_voltage(model, voltage[k], speed)
+        angle, speed, current, out["torque"][k], out["friction"][k] = voltage_interval(
+            model, angle, speed, current, applied, dt=dt_sample, substeps=substeps, force=force)
     i_g = model.gear_ratio
     return Trajectory(t=t, angle=out["angle"] / i_g, velocity=out["speed"] / i_g, axial_force=out["force"],
                       current=out["current"], motor_torque=out["torque"], friction_torque=out["friction"],
