@@ -225,10 +225,13 @@ class InputAligner:
                 self._released_key = max(self._released_key, union_max + 1)
         else:
             self._released_key = horizon
-        union = np.unique(np.concatenate([k for k, _ in released.values()]))
-        common = union
-        for keys, _ in released.values():
-            common = np.intersect1d(common, keys, assume_unique=True)
+        union = np.sort(np.concatenate([k for k, _ in released.values()]))
+        first = np.ones(union.size, dtype=bool)
+        first[1:] = union[1:] != union[:-1]
+        # each topic's keys are unique, so a key present in all three topics appears three times
+        counts = np.diff(np.flatnonzero(np.append(first, True)))
+        union = union[first]
+        common = union[counts == len(released)]
         for signal, (keys, _) in released.items():
             self.count(signal, "missing", union.size - keys.size)
         picked = {}
