@@ -23,7 +23,7 @@ class ModelOptions:
     radius: str = "hertz"  # R in eq. 6-7: "hertz" (2/sum_rho), "asperity" (asperity radius), "roughness"
     kappa: str = "b/a"  # kappa in Horng's f1..f3 of eq. 7: "b/a" (Horng) or "a/b" (000 eq. 4)
     gyroscopic_angle_deg: float = math.degrees(GYROSCOPIC_ANGLE)  # beta_b, 000 Sec. 3.2
-    rel_tol: float = 1e-10  # Fig. 6 stop: max relative change of the contact deformations
+    rel_tol: float = 1e-10  # Fig. 6 stop: max change of deformations (relative) and angles (rad)
     max_iter: int = 60
 
     def __post_init__(self) -> None:

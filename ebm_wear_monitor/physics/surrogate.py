@@ -25,12 +25,13 @@ from ebm_wear_monitor.physics.options import ModelOptions
 class Envelope(NamedTuple):
     """A rectangle of axial force [N] and screw speed [rad/s] magnitudes."""
 
-    force_min: float = 10.0
+    force_min: float = 0.1
     force_max: float = 80.0e3
     speed_max: float = 200.0
 
 
 ENVELOPE = Envelope()  # range of the table (covers overloads past the elastic-plastic switch)
+OPERATING_FORCE_MIN = 10.0  # [N]; below ~2 N the centrifugal force of a fast ball rivals its load
 SPEED_FLOOR = 1e-6  # speed at which the w = 0 column of g is evaluated [rad/s]
 
 
@@ -38,14 +39,16 @@ def _below_switch(envelope: Envelope, force: NDArray, plastic: NDArray) -> Envel
     """Part of ``envelope`` below the first force where a contact is elastic-plastic at any speed."""
     first = plastic.any(axis=1)
     onset = float(force[np.argmax(first)]) if first.any() else envelope.force_max
-    return Envelope(envelope.force_min, onset, envelope.speed_max)
+    return Envelope(max(envelope.force_min, OPERATING_FORCE_MIN), onset, envelope.speed_max)
 
 
 def operating_envelope(unit: UnitParams, options: ModelOptions, envelope: Envelope = ENVELOPE,
-                       n_force: int = 1201) -> Envelope:
-    """Operating envelope: ``envelope`` cut at the first elastic-plastic contact (000 eq. 6).
+                       n_force: int = 1801) -> Envelope:
+    """Operating envelope: ``envelope`` from 10 N up to the first elastic-plastic contact (000 eq. 6).
 
-    Inside it the wear rate is non-decreasing in |F| and |w| (tested). Past the switch
+    Inside it the wear rate is non-decreasing in |F| and |w| (tested). Below a few newtons
+    the centrifugal force (eq. 12) of a fast ball rivals its share of the axial load and
+    moves the contact angles, so the rate is not monotone there. Past the switch
     Horng's plastic area of eq. 7 grows faster than the Hertz load of eq. 1 allows, so
     the rate dips before it rises again: a property of 000's model, not of the solver.
     """
@@ -61,7 +64,7 @@ class WearTable:
     """
 
     def __init__(self, unit: UnitParams, options: ModelOptions, envelope: Envelope = ENVELOPE,
-                 n_force: int = 1201, n_speed: int = 41) -> None:
+                 n_force: int = 1801, n_speed: int = 41) -> None:
         self.envelope = envelope
         self._l0 = np.log(envelope.force_min)
         self._hl = (np.log(envelope.force_max) - self._l0) / (n_force - 1)
