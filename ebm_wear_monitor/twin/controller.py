@@ -41,6 +41,8 @@ from ebm_wear_monitor.twin.dynamics import ActuatorModel, limit_voltage, voltage
 #: phase names; codes are the indices (interface.md section 4 names the first four)
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release", "idle")
 CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE = range(5)
+#: lowest rate at which the brake controller runs [Hz] (slower recordings are decimated from it)
+CONTROL_RATE_HZ = 1000.0
 
 
 @dataclass(frozen=True)

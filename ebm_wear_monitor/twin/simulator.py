@@ -15,6 +15,10 @@ Wear coupling, per application:
    screw, nut, ball)`` (+ the ``clearance_growth`` effect), so the clamp
    contact of later applications moves out and long runs show the growth.
 
+The brake controller runs at ``rate_hz`` or, for recordings slower than
+1 kHz, at the smallest multiple of it that reaches 1 kHz, and the recording keeps
+every k-th step (a data logger sampling a faster drive).
+
 Applications that start from rest are independent given the clearance, so
 they are simulated in parallel batches (vectorised over the batch axis); the
 clearance of the i-th application of a batch is the clearance at the batch
@@ -38,7 +42,13 @@ import numpy as np
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
-from ebm_wear_monitor.twin.controller import PHASES, BrakeController, ClosedLoopRecord, run_duty_cycles
+from ebm_wear_monitor.twin.controller import (
+    CONTROL_RATE_HZ,
+    PHASES,
+    BrakeController,
+    ClosedLoopRecord,
+    run_duty_cycles,
+)
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, actuator_model
 from ebm_wear_monitor.twin.effects import ForceSensorError, apply_effects, check_effects, force_sensor_error
 from ebm_wear_monitor.twin.sensors import SensorNoise, measure
@@ -139,7 +149,7 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
             (default :data:`DEFAULT_DEMANDS`).
         effects: catalog effects {name: magnitude} present in the "real" unit (:mod:`.effects`).
         seed: seed of the sensor noise.
-        rate_hz: sample (and controller) rate [Hz].
+        rate_hz: recorded sample rate [Hz] (the controller runs at >= 1 kHz, see above).
         wear_acceleration: factor on every wear increment (accelerated-life scenarios) [-].
         hold_s: force-maintenance time(s) [s], cycled; rest_s: idle time after each release [s].
         noise: sensor noise (:class:`.sensors.SensorNoise`; ``sensors.NOISELESS`` for none).
@@ -172,14 +182,15 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     plant = apply_effects(actuator_model(unit), effects)
     sensor = force_sensor_error(effects)
     base_clearance = plant.clamp.clearance
-    dt = 1.0 / rate_hz
+    keep = max(1, math.ceil(CONTROL_RATE_HZ / rate_hz - 1e-9))  # control steps per recorded sample
+    dt = 1.0 / (rate_hz * keep)
     core = _wear_core(unit, wear_method) if wear else None
 
     def growth(total: np.ndarray) -> float:
         return float(core[1](unit, *total)) if core is not None else 0.0
 
     def run(model: ActuatorModel, lo: int, hi: int) -> ClosedLoopRecord:
-        return run_duty_cycles(model, demand_seq[lo:hi], hold_seq[lo:hi], rest=rest_s, rate_hz=rate_hz,
+        return run_duty_cycles(model, demand_seq[lo:hi], hold_seq[lo:hi], rest=rest_s, rate_hz=1.0 / dt,
                                controller=controller, force_offset=sensor.offset,
                                force_gain_error=sensor.gain)
 
@@ -225,12 +236,13 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
         wear_m={s: wear_after[i] for i, s in enumerate(SURFACES)} if core is not None else None,
         clearance_m=clearance_during, clearance_after_m=clearance_after,
         nominal_clearance_m=float(unit.actuator.clearance),
-        clearance_limit_m=float(unit.monitor.clearance_limit)), noise=noise, sensor=sensor, dt=dt)
+        clearance_limit_m=float(unit.monitor.clearance_limit)), noise=noise, sensor=sensor, dt=dt, keep=keep)
 
 
 def _assemble(plant: ActuatorModel, records: list[tuple[ClosedLoopRecord, int]], truth: dict, *,
-              noise: SensorNoise, sensor: ForceSensorError, dt: float) -> SimResult:
-    """Concatenate the batches' applications in order and add the sensors."""
+              noise: SensorNoise, sensor: ForceSensorError, dt: float, keep: int) -> SimResult:
+    """Concatenate the batches' applications in order, keep every ``keep``-th control step as a
+    recorded sample, and add the sensors."""
     i_g = plant.gear_ratio
     pieces: dict[str, list[np.ndarray]] = {k: [] for k in (
         "angle", "velocity", "axial_force", "current", "voltage", "motor_torque", "friction_torque",
@@ -252,7 +264,6 @@ def _assemble(plant: ActuatorModel, records: list[tuple[ClosedLoopRecord, int]],
             pieces["cycle"].append(np.full(n, lo + i, np.int32))
     clean = {k: np.concatenate(v) for k, v in pieces.items()}
     phase, cycle = clean.pop("phase").astype(np.int8), clean.pop("cycle")
-    measured = measure(clean, noise, sensor, np.random.default_rng(truth["seed"]))
     truth["cycle_start_s"] = np.array(starts)
     # start time of each phase of each application [s] (NaN if a phase never came)
     first = np.full((len(starts), len(PHASES)), np.nan)
@@ -261,11 +272,14 @@ def _assemble(plant: ActuatorModel, records: list[tuple[ClosedLoopRecord, int]],
     keys, where = np.unique(key, return_index=True)
     first.flat[keys] = index[where] * dt
     truth["phase_start_s"] = first
+    recorded = slice(None, None, keep)
+    clean = {k: v[recorded] for k, v in clean.items()}
+    measured = measure(clean, noise, sensor, np.random.default_rng(truth["seed"]))
     after = truth["clearance_after_m"]
     growth_per_cycle = (after[-1] - truth["clearance_m"][0]) / len(after) if len(after) else 0.0
     limit = truth["clearance_limit_m"]
     truth["eol_cycles"] = (truth["cycles_at_start"] + len(after) + (limit - after[-1]) / growth_per_cycle
                            if growth_per_cycle > 0.0 else None)
-    return SimResult(t=np.arange(offset) * dt, angle=measured["angle"], velocity=measured["velocity"],
-                     axial_force=measured["axial_force"], current=measured["current"], phase=phase,
-                     cycle=cycle, clean=clean, truth=truth)
+    return SimResult(t=index[recorded] * dt, angle=measured["angle"], velocity=measured["velocity"],
+                     axial_force=measured["axial_force"], current=measured["current"],
+                     phase=phase[recorded], cycle=cycle[recorded], clean=clean, truth=truth)

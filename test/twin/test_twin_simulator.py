@@ -163,3 +163,13 @@ def test_prior_cycles_start_worn():
 def test_bad_input(kwargs):
     with pytest.raises(InputError):
         simulate_unit(UNIT, **kwargs)
+
+
+def test_slow_recording_is_the_1kHz_drive_decimated():
+    kw = {"demands": [15e3], "hold_s": 0.3, "rest_s": 0.2, "noise": NOISELESS, "wear": False}
+    fast = simulate_unit(UNIT, 2, rate_hz=1000.0, **kw)
+    slow = simulate_unit(UNIT, 2, rate_hz=100.0, **kw)
+    assert np.allclose(np.diff(slow.t), 0.01)
+    for name in ("angle", "axial_force", "current"):
+        assert np.array_equal(slow.clean[name], fast.clean[name][::10])
+    assert np.array_equal(slow.phase, fast.phase[::10])
