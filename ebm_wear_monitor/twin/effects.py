@@ -79,7 +79,7 @@ def check_effects(effects: Mapping[str, float] | None) -> dict[str, float]:
             raise InputError(f"effect {name}: magnitude must be a number, got {value!r}") from None
         if not math.isfinite(magnitude):
             raise InputError(f"effect {name}: magnitude must be finite")
-        if name in ("stribeck", "efficiency_variation") and magnitude < 0.0:
+        if name in ("stribeck", "efficiency_variation", "stiffness_nonlinearity") and magnitude < 0.0:
             raise InputError(f"effect {name}: magnitude must be >= 0, got {magnitude:g}")
         if name == "efficiency_variation" and magnitude >= 1.0:
             raise InputError(f"effect {name}: efficiency drop must be < 1, got {magnitude:g}")

@@ -159,7 +159,10 @@ def test_prior_cycles_start_worn():
 @pytest.mark.parametrize("kwargs", [{"cycles": 0}, {"cycles": 1, "rate_hz": 1.0},
                                     {"cycles": 1, "wear_acceleration": -1.0},
                                     {"cycles": 1, "demands": [0.0]},
-                                    {"cycles": 1, "effects": {"clearance_growth": -1.0}}])
+                                    {"cycles": 1, "effects": {"clearance_growth": -1.0}},
+                                    {"cycles": 1, "effects": {"stiffness_nonlinearity": -0.5}},
+                                    {"cycles": 1, "effects": {"efficiency_variation": 1.0}},
+                                    {"cycles": 1, "effects": {"viscous_friction": "much"}}])
 def test_bad_input(kwargs):
     with pytest.raises(InputError):
         simulate_unit(UNIT, **kwargs)
