@@ -15,6 +15,9 @@ from contextlib import contextmanager
 
 from ebm_wear_monitor.errors import InputError
 
+#: how long to try reaching an existing scheduler before giving up [s]
+CONNECT_TIMEOUT_S = 10.0
+
 
 def default_workers() -> int:
     """CPU cores this process may use (``sched_getaffinity``), at least 1."""
@@ -28,7 +31,7 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None) -> I
 
     if scheduler:
         try:
-            client = Client(scheduler, timeout="10s")
+            client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
         except (OSError, TimeoutError, ValueError) as exc:
             raise InputError(f"cannot connect to Dask scheduler {scheduler}: {exc}") from exc
         with client:

@@ -1,0 +1,57 @@
+"""``ebm-wear fleet``: a generated fleet on an existing scheduler; exit 2 and nothing written on bad input."""
+
+from __future__ import annotations
+
+import json
+import logging
+
+import pandas as pd
+import pytest
+
+from ebm_wear_monitor.cli.main import main
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """An existing Dask cluster on loopback (threads: cheap to start), reached by its address."""
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, protocol="tcp", host="127.0.0.1",
+                      dashboard_address=None, silence_logs=logging.ERROR) as cluster:
+        assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+        yield cluster.scheduler_address
+
+
+def test_generate_and_run_on_an_existing_scheduler(tmp_path, scheduler, capsys):
+    fleet, out, doc = tmp_path / "fleet", tmp_path / "out", tmp_path / "fleet.json"
+    argv = ["fleet", str(fleet), "--generate", "3", "--cycles-per-bag", "2", "--bags-per-unit", "1", "--rate",
+            "100", "--scheduler", scheduler, "--out", str(out), "--json", str(doc), "--no-progress"]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "3 units: 3 processed, 0 unchanged" in text
+    units = json.loads(doc.read_text())["units"]
+    names = ["train00/car0/embu0", "train00/car0/embu1", "train00/car1/embu0"]
+    assert sorted(u["unit"] for u in units) == names
+    assert len(pd.read_parquet(out / "units.parquet")) == 3
+    assert (out / "report" / "index.html").exists()
+    assert main(["fleet", str(fleet), "--scheduler", scheduler, "--out", str(out), "--no-progress"]) == 0
+    assert "0 processed, 3 unchanged" in capsys.readouterr().out
+
+
+def test_bad_input_exits_2(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("ebm_wear_monitor.fleet.cluster.CONNECT_TIMEOUT_S", 1.0)
+    (tmp_path / "exists").mkdir()
+    (tmp_path / "empty").mkdir()
+    out = tmp_path / "out"
+    cases = [["fleet", str(tmp_path / "missing"), "--out", str(out)],
+             ["fleet", str(tmp_path / "exists"), "--generate", "2", "--out", str(out)],
+             ["fleet", str(tmp_path / "exists"), "--scheduler", "127.0.0.1:1", "--out", str(out)],
+             ["fleet", str(tmp_path / "exists"), "--scheduler", "tcp://127.0.0.1:1", "--out", str(out)],
+             ["fleet", str(tmp_path / "empty"), "--workers", "0", "--out", str(out)],
+             ["fleet", str(tmp_path / "exists"), "--json", str(tmp_path / "exists"), "--out", str(out)]]
+    for argv in cases:
+        assert main([*argv, "--no-progress"]) == 2, argv
+        err = capsys.readouterr().err.strip()
+        assert err.startswith("ebm-wear fleet: error:"), err
+        assert "\n" not in err
+    assert not out.exists()
