@@ -94,3 +94,17 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
     ]
     return {e.name: e for e in effects}
 
+
+
+def friction_refit(nom: Nominal, max_speed: float = 200.0) -> Effect:
+    """All four parameters of 004 eq. 9 corrected at once: the identification behind 004 Table 4.
+
+    Not a catalog entry (it nests viscous_friction, load_friction and preload_change and
+    would explain any friction effect at the price of four parameters); the diagnosis
+    reports it beside the ranking as the unit's refitted friction law.
+    """
+    return Effect("friction_refit", "T_fs, T_fc, B and G of 004 eq. 9 refitted together",
+                  ("dT_fs", "dT_fc", "dB", "dG"), ("N m", "N m", "N m s/rad", "N m/N"),
+                  lambda p: Augment(dT_fs=p[0], dT_fc=p[1], dB=p[2], dG=p[3]),
+                  (0.1 * nom.T_fs, 0.1 * nom.T_fc, 0.1 * max(nom.B, 1e-4), 0.1 * max(nom.G, 1e-6)),
+                  ((0.0, 0.0, 0.0, 0.0),))

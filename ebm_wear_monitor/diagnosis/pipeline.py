@@ -14,10 +14,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.catalog import build_catalog
+from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import segment
-from ebm_wear_monitor.diagnosis.ranking import METRIC, Ranking, Scorer, rank, separating_experiment
+from ebm_wear_monitor.diagnosis.ranking import (
+    METRIC,
+    Ranking,
+    Scorer,
+    evaluate,
+    nominal_sse,
+    rank,
+    separating_experiment,
+)
 from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording
 from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Nominal, ResidualModel
 from ebm_wear_monitor.diagnosis.where import where_table
@@ -62,6 +70,8 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         sigma_torque=float(np.median(sc.sigma_torque)), sigma_force=float(np.median(sc.sigma_force)))
         for f in ties]
     gap_after = top.gap_after if found else ranking.gap_before
+    refit = evaluate(sc, friction_refit(nominal, float(np.abs(sc.model.w_m).max())), nominal_sse(sc))
+    base = {"dT_fs": nominal.T_fs, "dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
     return ({
         "unit": rec.unit,
         "verdict": ranking.verdict,
@@ -75,6 +85,10 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         "metric": METRIC,
         "significance_level": ranking.alpha,
         "near_ties": experiments,
+        "friction_refit": refit.as_dict() | {
+            "nominal": {"T_fs": nominal.T_fs, "T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
+            "refitted": {k[1:]: base[k] + float(v) for k, v in zip(refit.effect.params, refit.theta,
+                                                                       strict=True)}},
         "cycles": {"total": int(np.unique(b.cycle).size),
                    "heldout": [int(c) for c in sc.split.heldout_cycles]},
         "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},

@@ -295,9 +295,14 @@ class Ranking:
         return self.fits[0]
 
 
+def nominal_sse(sc: Scorer) -> np.ndarray:
+    """Held-out sum of z^2 per cycle of the nominal twin (the baseline of :func:`evaluate`)."""
+    return sc.cycle_sse(NOMINAL)
+
+
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     """Fit every effect, rank by score, decide the verdict, mark near-ties with the top effect."""
-    s_before = sc.cycle_sse(NOMINAL)
+    s_before = nominal_sse(sc)
     fits = sorted((evaluate(sc, e, s_before) for e in catalog.values()), key=lambda f: -f.score)
     level = ALPHA / len(fits)
     misfit = sc.misfit_p(fits[0].augment)

@@ -41,7 +41,7 @@ from ebm_wear_monitor.params import UnitParams, load_unit
 
 RATE_HZ = 500.0  # recording rate of the self-test [Hz]
 OVERSAMPLE = 8  # plant integration steps per recorded sample
-CYCLES = 12  # brake applications per recording
+CYCLES = 20  # brake applications per recording
 DEMANDS = ((8e3, 14e3, 20e3, 26e3), (12e3, 24e3, 6e3, 18e3))  # demand sequences [N]
 HOLDS = ((0.3,), (0.2, 0.4))  # force-maintenance times [s], cycled
 SEEDS = (11, 12, 13)
