@@ -4,10 +4,12 @@ The direct solve (:mod:`contact`) is smooth in force and speed apart from the
 elastic / elastic-plastic switch of eq. 6-7. The wear-depth rate is, to first order,
 proportional to the screw speed (every sliding velocity of eq. 19 is), so the table
 stores g(F, w) = (dh/dt) / w on a grid uniform in ln F and in w, and the surrogate
-returns w * bilinear(g). Samples outside the envelope (documented in
-:data:`ENVELOPE`) go through the direct solve instead, so the surrogate is never
-extrapolated; the tests prove the maximum relative error against the direct solve
-inside the envelope.
+returns w * bilinear(g). The grid is 1801 x 41 over :data:`ENVELOPE` (0.1 N .. 80 kN,
+0 .. 200 rad/s); samples outside it go through the direct solve instead, so the
+surrogate is never extrapolated. The tests prove a maximum relative error against the
+direct solve of at most 0.5 % over the whole table (measured 0.3 %, at the kink of the
+elastic-plastic switch). Per cell the bilinear form is stored as four coefficients so
+that one gather fetches a sample's screw and nut cell.
 """
 
 from __future__ import annotations
