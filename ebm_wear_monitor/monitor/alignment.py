@@ -9,7 +9,8 @@ under one fault kind (the first that applies, in this order):
 
 ``bad_stamp``        stamp not finite or not representable in int64 ns
 ``non_finite``       value NaN or +-inf
-``negative``         axial force below -force_on (compression is positive; 9 sigma of the noise)
+``negative``         axial force below -10 force_on (compression is positive; a sensor offset of
+                     a few force_on is tolerated and removed by segmentation.py)
 ``absurd``           |angle|, |velocity| or force beyond the configured physical bounds
 ``stamp_backwards``  stamp more than ``backwards_jump_s`` behind its topic's newest
 ``late``             stamp more than ``reorder_window_s`` behind its topic's newest, or in the
@@ -47,6 +48,7 @@ IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the we
 FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_backwards", "late", "duplicate",
                "out_of_order", "missing", "gap", "interrupted_cycle")
 _NO_STAMP = np.iinfo(np.int64).min
+NEGATIVE_FORCE_MULTIPLE = 10.0  # force below -10 x the contact threshold is a wiring / sign fault
 _INT64_SECONDS = 9.2e9  # |stamp| [s] that still fits in int64 nanoseconds
 
 
@@ -118,7 +120,7 @@ class InputAligner:
         self._bounds = {
             "angle": (-config.max_abs_angle_rad, config.max_abs_angle_rad),
             "velocity": (-config.max_speed_rad_s, config.max_speed_rad_s),
-            "axial_force": (-thresholds.force_on, config.max_force_n),
+            "axial_force": (-NEGATIVE_FORCE_MULTIPLE * thresholds.force_on, config.max_force_n),
         }
 
     # ------------------------------------------------------------------ input

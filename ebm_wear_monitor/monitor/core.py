@@ -192,7 +192,7 @@ class MonitorCore:
         for signal, counts in st.input_faults.items():
             for kind, n in counts.items():
                 self._aligner.count(signal, kind, n)
-        self._segmenter = Segmenter(self.config, self._th)
+        self._segmenter = Segmenter(self.config, self._th, st.force_baseline_n)
         if st.filter_x is not None:
             self._filter = ClearanceFilter(st.filter_x, st.filter_P)
         else:
@@ -294,6 +294,7 @@ class MonitorCore:
         """A copy of the persistent state now (save it with :func:`save_state`)."""
         st = self._st
         st.input_faults = {k: dict(v) for k, v in self._aligner.faults.items() if v}
+        st.force_baseline_n = self._segmenter.force_baseline
         return MonitorState.from_dict(st.to_dict())
 
     def save(self, path: str | Path | None = None) -> None:

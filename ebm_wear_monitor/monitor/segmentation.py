@@ -14,25 +14,37 @@
 This module turns the aligned sample stream into those phases with a causal
 state machine on two hysteresis pairs, both *relative to the unit*
 (:meth:`MonitorConfig.resolve`): screw speed (moving above ``omega_on``,
-stopped below ``omega_off``) and axial force (contact above ``force_on``,
-released below ``force_off``). Transitions:
+stopped below ``omega_off``) and axial force above the rest level b (contact
+above ``b + force_on``, released below ``b + force_off``). Transitions:
 
 ====================  =========================================================
 rest -> CE            omega > omega_on  (omega < -omega_on from rest: 'motion')
-CE -> FG              F > force_on
+CE -> FG              F - b > force_on
 FG -> FM              |omega| < omega_off
 FG, FM -> FR          omega < -omega_on
-FM, FR -> FG          omega > omega_on (and F > force_on from FR): a stepped
+FM, FR -> FG          omega > omega_on (and F - b > force_on from FR): a stepped
                       or repeated demand re-enters force generation
-any -> rest           |omega| < omega_off and F < force_off, held for rest_dwell_s
+CE, FR -> rest        stopped (|omega| < omega_off) for rest_dwell_s
+FM -> rest            stopped and F - b < force_off for rest_dwell_s (force lost
+                      without a release motion)
 ====================  =========================================================
+
+The rest level b (offset of the force sensor, the ``force_sensor_bias`` of the
+effect catalog) is the median force over the last rest samples before the
+application: at rest the pads are open and the true axial force is zero. Forces
+are used as F - b everywhere (thresholds, wear, peak, onset fit), so an offset
+neither merges applications nor biases the clearance observation. The end of
+an application is a *stop after the release motion*, independent of the force,
+for the same reason.
 
 An application that reached force generation and came back to rest is a
 ``cycle``; one that never reached force is ``incomplete``; motion that did not
-start from rest in the apply direction (or follows a resynchronisation) is
-``motion``; a gap inside an application makes it ``interrupted``; data ending
-inside one (``final``) makes it ``partial``. All of them carry their samples so
-their wear is integrated; only ``cycle`` counts as a duty cycle.
+start from rest in the apply direction (or follows the start of data or a gap,
+where the context is unknown) is ``motion``, which ends at the first stop after
+a release-direction move (or at a stop with released force before any move); a
+gap inside an application makes it ``interrupted``; data ending inside one
+(``final``) makes it ``partial``. All of them carry their samples so their wear
+is integrated; only ``cycle`` counts as a duty cycle.
 
 Only samples where the screw moves (|omega| >= omega_off) are kept for the
 wear integral (Archard wear needs sliding, 000 eq. 20-23); each keeps the time
@@ -45,7 +57,8 @@ run shorter than the dwell at the end of the available data waits for more
 samples, kept as the carry), and every sum is over integer stamps or done later
 on whole-segment arrays, so feeding one sample at a time or everything at once
 gives the same segments bit for bit. The event loop visits transitions, not
-samples: each step is a binary search in precomputed index arrays.
+samples: each step is a binary search in index arrays precomputed per batch
+(speed conditions) or per window and rest level (force conditions).
 """
 
 from __future__ import annotations
@@ -63,6 +76,7 @@ REST = -1
 UNKNOWN = -2  # at the start of data and after a gap: the first sample decides (at rest or moving)
 ACTIVE = (CE, FG, FM, FR)
 _CONFIRMED, _BROKEN, _UNDECIDED = 0, 1, 2
+_FORCE_WINDOW = 4096  # samples over which force conditions are evaluated at once (doubled on demand)
 
 
 @dataclass
@@ -75,13 +89,14 @@ class Segment:
     phase_ns: np.ndarray  # int64[5]: time spent per label CE, FG, FM, FR, MOTION [ns]
     angle: np.ndarray  # kept samples: screw angle [rad]
     velocity: np.ndarray  # screw speed [rad/s]
-    force: np.ndarray  # axial force [N]
+    force: np.ndarray  # axial force above the rest level, F - b [N]
     dt: np.ndarray  # time since the previous aligned sample [s] (0 after a gap)
     dangle: np.ndarray  # angle change since the previous aligned sample [rad] (0 after a gap)
     label: np.ndarray  # int8 phase label of each kept sample
-    peak_force: float  # max axial force over all samples of the segment [N]
+    peak_force: float  # max of F - b over all samples of the segment [N]
     angle_at_peak_force: float  # screw angle at that sample [rad]
     rest_angle: float  # median rest angle before the segment [rad]; NaN when unknown
+    force_baseline: float  # rest level b subtracted from the force [N]
 
     @property
     def phase_durations_s(self) -> tuple[float, float, float, float]:
@@ -94,6 +109,7 @@ class _Open:
     """The segment being built."""
 
     rest_angle: float
+    baseline: float
     start_ns: int | None = None
     label: int | None = None
     label_start: int = 0
@@ -102,20 +118,27 @@ class _Open:
     peak_force: float = -np.inf
     angle_at_peak: float = np.nan
     reached_force: bool = False
+    last_direction: float = 0.0  # sign of the last moving sample (0: no move yet)
 
 
 class Segmenter:
-    """Streaming state machine over aligned samples; :meth:`feed` returns the segments it closed."""
+    """Streaming state machine over aligned samples; :meth:`feed` returns the segments it closed.
 
-    def __init__(self, config: MonitorConfig, thresholds: Thresholds):
+    ``force_baseline``: the rest level b of the force to start with [N] (persisted with the state).
+    """
+
+    def __init__(self, config: MonitorConfig, thresholds: Thresholds, force_baseline: float = 0.0):
         self.configure(config, thresholds)
         self.state = UNKNOWN
-        self._open = _Open(np.nan)
-        self._ring = np.empty(0)
+        self.force_baseline = float(force_baseline)
+        self._open = _Open(np.nan, self.force_baseline)
+        self._ring = np.empty(0)  # angles of the latest rest samples [rad]
+        self._ring_force = np.empty(0)  # their forces [N]
         self._carry: AlignedBatch | None = None
         self._prev_ns: int | None = None
         self._prev_angle = 0.0
         self._gap_ns: int | None = None  # stamp of the last gap already handled
+        self._fc: dict | None = None
 
     def configure(self, config: MonitorConfig, thresholds: Thresholds) -> None:
         """Apply (possibly changed) thresholds from the next :meth:`feed` on."""
@@ -134,19 +157,25 @@ class Segmenter:
             if seg.label is not None:
                 seg.phase_ns[seg.label] += int(s["t"][a]) - seg.label_start
             seg.label, seg.label_start = label, int(s["t"][a])
+        force = s["force"][a:b] - seg.baseline
         keep = ~s["slow"][a:b]
         if keep.any():
-            kept = [s[k][a:b][keep] for k in ("angle", "velocity", "force", "dt", "dangle")]
+            kept = [s[k][a:b][keep] for k in ("angle", "velocity")]
+            kept += [force[keep], s["dt"][a:b][keep], s["dangle"][a:b][keep]]
             seg.parts.append((*kept, np.full(int(keep.sum()), label, np.int8)))
-        i = a + int(np.argmax(s["force"][a:b]))
-        if s["force"][i] > seg.peak_force:
-            seg.peak_force, seg.angle_at_peak = float(s["force"][i]), float(s["angle"][i])
+        i = int(np.argmax(force))
+        if force[i] > seg.peak_force:
+            seg.peak_force, seg.angle_at_peak = float(force[i]), float(s["angle"][a + i])
+        moving = s["i_moving"]
+        j = int(np.searchsorted(moving, b)) - 1
+        if j >= 0 and moving[j] >= a:
+            seg.last_direction = float(np.sign(s["velocity"][moving[j]]))
         if label in (FG, FM, FR):
             seg.reached_force = True
 
     def _close(self, end_ns: int, kind: str, out: list[Segment]) -> None:
         seg = self._open
-        self._open = _Open(np.nan)
+        self._open = _Open(np.nan, self.force_baseline)
         if seg.start_ns is None:
             return
         if seg.label is not None:
@@ -155,8 +184,8 @@ class Segmenter:
         arrays = [np.concatenate([part[j] for part in seg.parts]) if seg.parts else np.empty(0, d)
                   for j, d in enumerate(dtypes)]
         out.append(Segment(kind, seg.start_ns, end_ns, seg.phase_ns, *arrays,
-                           peak_force=float(seg.peak_force),
-                           angle_at_peak_force=seg.angle_at_peak, rest_angle=seg.rest_angle))
+                           peak_force=float(seg.peak_force), angle_at_peak_force=seg.angle_at_peak,
+                           rest_angle=seg.rest_angle, force_baseline=seg.baseline))
 
     def _kind_at_rest(self) -> str:
         if self.state == MOTION:
@@ -164,14 +193,44 @@ class Segmenter:
         return "cycle" if self._open.reached_force else "incomplete"
 
     def _next(self, name: str, p: int) -> int:
+        """First index >= p of a speed condition precomputed for the batch (n if none)."""
         idx = self._s[name]
         j = int(np.searchsorted(idx, p))
         return int(idx[j]) if j < idx.size else self._n
 
-    def _dwell(self, r: int, e: int) -> tuple[int, int]:
-        """Is the rest run starting at ``r`` (within the gap-free range ending at ``e``) long enough?"""
+    def _force_window(self, lo: int, hi: int) -> dict:
+        """Index arrays of the force conditions over [lo, hi) at the open segment's rest level."""
+        s, th, b = self._s, self.th, self._open.baseline
+        f = s["force"][lo:hi] - b
+        slow = s["slow"][lo:hi]
+        held_rest = slow & (f < th.force_off)
+        self._fc = {
+            "b": b, "lo": lo, "hi": hi,
+            "i_fon": np.flatnonzero(f > th.force_on) + lo,
+            "i_posf": np.flatnonzero((s["velocity"][lo:hi] > th.omega_on) & (f > th.force_on)) + lo,
+            "i_released": np.flatnonzero(held_rest) + lo,
+            "i_notreleased": np.flatnonzero(~held_rest) + lo,
+        }
+        return self._fc
+
+    def _next_force(self, name: str, p: int) -> int:
+        """First index >= p of a force condition (relative to the rest level), evaluated lazily."""
+        n, c = self._n, self._fc
+        if c is None or c["b"] != self._open.baseline or not c["lo"] <= p < c["hi"]:
+            c = self._force_window(p, min(n, p + _FORCE_WINDOW))
+        while True:
+            idx = c[name]
+            j = int(np.searchsorted(idx, p))
+            if j < idx.size:
+                return int(idx[j])
+            if c["hi"] >= n:
+                return n
+            c = self._force_window(c["lo"], min(n, c["lo"] + 2 * (c["hi"] - c["lo"])))
+
+    def _dwell(self, r: int, e: int, run_end: int) -> tuple[int, int]:
+        """Does the stop starting at ``r`` (ending at ``run_end``, gap-free range up to ``e``) last?"""
         t = self._s["t"]
-        k = min(self._next("i_notrest", r), e)
+        k = min(run_end, e)
         if int(t[k - 1]) - int(t[r]) >= self._dwell_ns:
             return _CONFIRMED, r
         if k < e or e < self._n:
@@ -200,23 +259,18 @@ class Segmenter:
         prev_a = np.empty(n)
         prev_a[0] = ang[0] if self._prev_ns is None else self._prev_angle
         prev_a[1:] = ang[:-1]
-        dt = np.where(gap, 0, t - prev_t) * 1e-9
-        dangle = np.where(gap, 0.0, ang - prev_a)
         slow = np.abs(vel) < th.omega_off
-        rest = slow & (frc < th.force_off)
         self._s = {
-            "t": t, "angle": ang, "velocity": vel, "force": frc, "dt": dt, "dangle": dangle,
-            "slow": slow, "rest": rest,
+            "t": t, "angle": ang, "velocity": vel, "force": frc, "slow": slow,
+            "dt": np.where(gap, 0, t - prev_t) * 1e-9, "dangle": np.where(gap, 0.0, ang - prev_a),
             "i_moving": np.flatnonzero(np.abs(vel) > th.omega_on),
             "i_pos": np.flatnonzero(vel > th.omega_on),
             "i_neg": np.flatnonzero(vel < -th.omega_on),
-            "i_posf": np.flatnonzero((vel > th.omega_on) & (frc > th.force_on)),
-            "i_fon": np.flatnonzero(frc > th.force_on),
             "i_slow": np.flatnonzero(slow),
-            "i_rest": np.flatnonzero(rest),
-            "i_notrest": np.flatnonzero(~rest),
+            "i_notslow": np.flatnonzero(~slow),
             "i_gap": np.flatnonzero(gap),
         }
+        self._fc = None
         self._n, self._final = n, final
         p = 0
         while p < n:
@@ -233,7 +287,7 @@ class Segmenter:
             self._carry = AlignedBatch(t[p:], ang[p:], vel[p:], frc[p:], gap[p:])
         if final:
             self._finish(out)
-        self._s = {}
+        self._s, self._fc = {}, None
         return out
 
     def _finish(self, out: list[Segment]) -> None:
@@ -248,7 +302,7 @@ class Segmenter:
 
     def _on_gap(self, end_ns: int, out: list[Segment]) -> None:
         """A gap: no knowledge of what happened in it. Close any segment and resynchronise."""
-        self._ring = np.empty(0)
+        self._ring, self._ring_force = np.empty(0), np.empty(0)
         if self.state == REST:
             return
         self._close(end_ns, "interrupted" if self.state in ACTIVE else "motion", out)
@@ -256,65 +310,84 @@ class Segmenter:
 
     def _start(self, s: int) -> None:
         """Leave rest at sample ``s``: a new application (apply direction) or other motion."""
+        if self._ring.size:
+            self.force_baseline = float(np.median(self._ring_force))
         rest_angle = float(np.median(self._ring)) if self._ring.size else np.nan
-        self._open = _Open(rest_angle)
-        self._ring = np.empty(0)
+        self._open = _Open(rest_angle, self.force_baseline)
+        self._ring, self._ring_force = np.empty(0), np.empty(0)
         self.state = CE if self._s["velocity"][s] > 0 else MOTION
 
-    def _to_rest(self, p: int, r: int, out: list[Segment]) -> tuple[int, bool]:
-        """A rest run starts at ``r`` (after the samples [p, r) of the current state): settle it."""
-        status, k = self._dwell(r, self._gap_end)
-        if status == _CONFIRMED:
+    def _settle(self, p: int, r: int, run_end: int, out: list[Segment], accept: bool = True
+                ) -> tuple[int, bool]:
+        """A stop starts at ``r`` after the samples [p, r) of the current state: rest, or carry on?"""
+        status, k = self._dwell(r, self._gap_end, run_end)
+        if status == _CONFIRMED and accept:
             self._consume(p, r, self.state)
             self._close(int(self._s["t"][r]), self._kind_at_rest(), out)
             self.state = REST
             return r, False
+        if status == _CONFIRMED:  # a lasting stop that is not a rest (a hold seen without context)
+            k = min(self._next("i_notslow", r), self._gap_end)
+            self._consume(p, k, self.state)
+            return k, k == self._n and not self._final
         self._consume(p, k, self.state)
         return k, status == _UNDECIDED
 
     def _step(self, p: int, e: int, out: list[Segment]) -> tuple[int, bool]:
         """Advance from ``p`` in the current state to the next event before ``e``; (new p, stop)."""
         self._gap_end = e
-        nx = self._next
+        nx, nf = self._next, self._next_force
         if self.state == UNKNOWN:
-            self.state = REST if self._s["rest"][p] else MOTION
+            at_rest = self._s["slow"][p] and self._s["force"][p] - self.force_baseline < self.th.force_off
+            self.state = REST if at_rest else MOTION
         st = self.state
         if st == REST:
             s = min(nx("i_moving", p), e)
             self._ring = np.concatenate([self._ring, self._s["angle"][p:s]])[-self._ring_size:]
+            self._ring_force = np.concatenate([self._ring_force, self._s["force"][p:s]])[-self._ring_size:]
             if s < e:
                 self._start(s)
             return s, False
-        if st == CE:
-            f, r = nx("i_fon", p), nx("i_rest", p)
-            if f < min(r, e):
-                self._consume(p, f, CE)
-                self.state = FG
-                return f, False
-        elif st == FG:
+        if st == FG:
             m, q = nx("i_slow", p), nx("i_neg", p)
             ev = min(m, q, e)
             if ev < e:
                 self._consume(p, ev, FG)
                 self.state = FR if q < m else FM
                 return ev, False
-            r = e
-        elif st == FM:
-            a, q, r = nx("i_pos", p), nx("i_neg", p), nx("i_rest", p)
+            self._consume(p, e, FG)
+            return e, False
+        if st == FM:
+            a, q, r = nx("i_pos", p), nx("i_neg", p), nf("i_released", p)
             ev = min(a, q)
             if ev < min(r, e):
                 self._consume(p, ev, FM)
                 self.state = FG if a < q else FR
                 return ev, False
+            if r < e:
+                return self._settle(p, r, nf("i_notreleased", r), out)
+            self._consume(p, e, FM)
+            return e, False
+        r = nx("i_slow", p)
+        if st == CE:
+            f = nf("i_fon", p)
+            if f < min(r, e):
+                self._consume(p, f, CE)
+                self.state = FG
+                return f, False
         elif st == FR:
-            a, r = nx("i_posf", p), nx("i_rest", p)
+            a = nf("i_posf", p)
             if a < min(r, e):
                 self._consume(p, a, FR)
                 self.state = FG
                 return a, False
-        else:  # MOTION
-            r = nx("i_rest", p)
         if r < e:
-            return self._to_rest(p, r, out)
+            accept = True
+            if st == MOTION:  # context unknown: a stop is a rest after a release-direction move only
+                self._consume(p, r, MOTION)
+                p, seg = r, self._open
+                released = self._s["force"][r] - seg.baseline < self.th.force_off
+                accept = seg.last_direction < 0 or (seg.last_direction == 0 and released)
+            return self._settle(p, r, nx("i_notslow", r), out, accept)
         self._consume(p, e, st)
         return e, False

@@ -43,6 +43,7 @@ class MonitorState:
     last_cycle_ns: int | None = None  # start of the last completed application [ns] (usage rate)
     last_stamp_ns: int | None = None  # end of the last closed segment [ns]: data up to it is integrated
     input_faults: dict[str, dict[str, int]] = field(default_factory=dict)  # per topic (and "stream")
+    force_baseline_n: float = 0.0  # rest level (offset) of the force sensor [N], segmentation.py
     version: int = STATE_VERSION
 
     def to_dict(self) -> dict[str, Any]:
@@ -67,6 +68,9 @@ class MonitorState:
             v = getattr(state, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise StateError(f"{name}: expected a finite number >= 0, got {v!r}")
+        b = state.force_baseline_n
+        if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b):
+            raise StateError(f"force_baseline_n: expected a finite number, got {b!r}")
         for name in ("first_cycle_ns", "last_cycle_ns", "last_stamp_ns"):
             v = getattr(state, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, int)):

@@ -89,3 +89,25 @@ def test_noise_at_rest_makes_no_segments(unit):
     assert core.process(final=True) == []
     snap = core.snapshot()
     assert snap.segments == {} and snap.wear_screw_m == 0.0
+
+
+@pytest.mark.parametrize("bias", [-2000.0, -200.0, 200.0, 2000.0])
+def test_force_sensor_offset_neither_merges_applications_nor_biases_the_clearance(unit, bias):
+    synth = synth_cycles(6, noise=True, seed=3)
+    synth.force = synth.force + bias
+    core, cycles = _run(unit, synth)
+    # an offset above the 'released' level (225 N here) is unknown until the first rest after a release:
+    # the first application is then counted as motion, never merged with the next
+    expected = 6 if abs(bias) < 225 or bias < 0 else 5
+    assert len(cycles) == expected
+    assert core.snapshot().input_faults == {}
+    for c in cycles:
+        assert abs(c.clearance_observed_m - 0.2e-3) < 3 * c.clearance_observed_std_m
+        assert c.peak_force_n == pytest.approx(20e3, rel=0.02)
+    assert core.state.force_baseline_n == pytest.approx(bias, abs=30.0)
+    resumed = MonitorCore(unit, state=core.state, wear_rates=linear_rates(1e-9),
+                          clearance_growth=screw_growth)
+    synth.t = synth.t + 100.0  # a later recording of the same unit: the offset is known from the start
+    for s, (t, v) in synth.signals().items():
+        resumed.add(s, t, v)
+    assert len(resumed.process(final=True)) == 6
