@@ -3,7 +3,8 @@
 The embedded default starts one worker *process* per CPU core available to
 this process, one thread each: the monitor core is numpy plus Python loops
 per brake application, so threads would contend for the GIL while processes
-scale. Everything listens on the loopback interface only.
+scale. Everything (scheduler, workers, nannies, HTTP endpoint) listens on the
+loopback interface only.
 """
 
 from __future__ import annotations
@@ -15,6 +16,9 @@ from contextlib import contextmanager
 
 from ebm_wear_monitor.errors import InputError
 
+#: the scheduler's HTTP endpoint (health, and the dashboard where bokeh is installed): loopback,
+#: a free port (the default 8787 collides with any other cluster on the machine)
+LOOPBACK_ANY_PORT = "127.0.0.1:0"
 #: how long to try reaching an existing scheduler before giving up [s]
 CONNECT_TIMEOUT_S = 10.0
 
@@ -38,6 +42,6 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None) -> I
             yield client
         return
     cluster = LocalCluster(n_workers=n_workers or default_workers(), threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
+                           host="127.0.0.1", dashboard_address=LOOPBACK_ANY_PORT, silence_logs=logging.ERROR)
     with cluster, Client(cluster) as client:
         yield client
