@@ -23,6 +23,10 @@ and, for samples that are kept but imperfect:
 ``missing``          at a released stamp, this topic had no value (the stamp is dropped)
 ``gap``              consecutive aligned samples further apart than ``gap_s``
 
+Counted under "stream" by the core: ``interrupted_cycle`` (a gap inside a brake
+application), ``observation_rejected`` (clearance observation outside the
+filter's innovation gate) and ``clearance_reset`` (the clearance jumped).
+
 Chunk invariance (why node and replay agree bit for bit): every decision about a
 sample depends only on the order of arrival *within its own topic* (the running
 maximum of that topic's stamps) and on the samples' values, never on how the
@@ -46,7 +50,8 @@ from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 SIGNALS = ("angle", "velocity", "axial_force")
 IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the wear monitor
 FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_backwards", "late", "duplicate",
-               "out_of_order", "missing", "gap", "interrupted_cycle")
+               "out_of_order", "missing", "gap", "interrupted_cycle", "observation_rejected",
+               "clearance_reset")
 _NO_STAMP = np.iinfo(np.int64).min
 NEGATIVE_FORCE_MULTIPLE = 10.0  # force below -10 x the contact threshold is a wiring / sign fault
 _INT64_SECONDS = 9.2e9  # |stamp| [s] that still fits in int64 nanoseconds

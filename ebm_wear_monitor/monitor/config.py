@@ -127,6 +127,16 @@ class MonitorConfig:
         "random-walk 1-sigma of the correction factor per application: lets it wander by ~1 over 1e6 "
         "applications (run-in, lubricant ageing)")
 
+    innovation_gate_sigma: float = _p(
+        5.0, "-", 1.0, 1e6,
+        "an observation further than this many sigma of the innovation sqrt(P_xx + R) from the "
+        "prediction is counted 'observation_rejected' and not fused (a Gaussian innovation exceeds 5 "
+        "sigma once in 1.7e6 applications)")
+    reset_after_rejections: int = _p(
+        5, "-", 1, 1 << 30,
+        "this many rejections in a row mean the clearance itself changed (adjustment, maintenance): "
+        "the clearance restarts at the observation ('clearance_reset'), the wear-rate factor is kept")
+
     # ---- remaining life (life.py)
     min_cycles_for_life: int = _p(
         10, "-", 1, 1 << 40,

@@ -269,8 +269,7 @@ class MonitorCore:
         st.model_clearance_at_filter_m = model
         observed, observed_std = observe_clearance(seg, self._th, cfg)
         if math.isfinite(observed):
-            self._filter.update(observed, observed_std ** 2)
-            st.observations += 1
+            self._fuse(observed, observed_std ** 2)
         st.filter_x, st.filter_P = self._filter.x.tolist(), self._filter.P.tolist()
         return CycleSummary(
             index=st.duty_cycles, start_ns=seg.start_ns, end_ns=seg.end_ns,
@@ -282,6 +281,23 @@ class MonitorCore:
             clearance_observed_m=observed, clearance_observed_std_m=observed_std, clearance_model_m=model,
             clearance_estimate_m=self._filter.clearance, clearance_std_m=self._filter.clearance_std,
             wear_rate_factor=self._filter.factor, wear_rate_factor_std=self._filter.factor_std)
+
+    def _fuse(self, observed: float, variance: float) -> None:
+        """Kalman update behind an innovation gate (kalman.py); restart the clearance after a jump."""
+        st, cfg = self._st, self.config
+        y, s = self._filter.innovation(observed, variance)
+        if abs(y) <= cfg.innovation_gate_sigma * math.sqrt(s):
+            self._filter.update(observed, variance)
+            st.observations += 1
+            st.rejections_in_row = 0
+            return
+        self._aligner.count("stream", "observation_rejected", 1)
+        st.rejections_in_row += 1
+        if st.rejections_in_row >= cfg.reset_after_rejections:
+            self._aligner.count("stream", "clearance_reset", 1)
+            self._filter.restart_clearance(observed, variance)
+            st.observations += 1
+            st.rejections_in_row = 0
 
     # ------------------------------------------------------------------ results
     def model_clearance(self) -> float:

@@ -19,6 +19,10 @@ applications. Q_k = diag((s_g g_k)^2, d_f^2).
 
 Measurement: the clearance observed in the application (observation.py),
 z_k = x_ag,k + v, v ~ N(0, R_k), H = [1, 0], R_k from the sensor error budget.
+An observation whose innovation y = z - x_ag exceeds ``innovation_gate_sigma``
+times sqrt(S), S = P_xx + R, is rejected (outlier); several rejections in a row
+mean the clearance itself jumped (adjustment, maintenance) and the clearance
+state restarts at the observation while the learned factor is kept (core.py).
 
 The factor is observable only through accumulated growth: after N applications
 of growth g and noise sigma, var(f) ~ 12 sigma^2 / (g^2 N^3) (least squares on a
@@ -58,6 +62,16 @@ class ClearanceFilter:
     def update(self, observed_m: float, variance_m2: float) -> None:
         """Fuse one clearance observation [m] with noise variance R [m^2]."""
         self._kf.update(np.array([[observed_m]]), R=np.array([[variance_m2]]))
+
+    def innovation(self, observed_m: float, variance_m2: float) -> tuple[float, float]:
+        """(y, S): residual z - H x [m] and its variance H P H' + R [m^2] before an update."""
+        return observed_m - float(self._kf.x[0, 0]), float(self._kf.P[0, 0]) + variance_m2
+
+    def restart_clearance(self, observed_m: float, variance_m2: float) -> None:
+        """The clearance changed by itself (adjustment): restart it at the observation, keep the factor."""
+        self._kf.x[0, 0] = observed_m
+        self._kf.P[0, 0] = variance_m2
+        self._kf.P[0, 1] = self._kf.P[1, 0] = 0.0
 
     @property
     def x(self) -> np.ndarray:

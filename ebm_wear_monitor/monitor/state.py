@@ -36,6 +36,7 @@ class MonitorState:
     filter_x: list[float] | None = None  # Kalman mean [x_ag [m], f [-]]; None before the first application
     filter_P: list[list[float]] | None = None  # Kalman covariance
     observations: int = 0  # clearance observations fused
+    rejections_in_row: int = 0  # consecutive observations rejected by the innovation gate
     model_clearance_at_filter_m: float | None = None  # model clearance at the last filter step [m]
     sum_f3_rot: float = 0.0  # sum |F|^3 |d theta| [N^3 rad] (ISO 3408-5 cubic-mean load)
     sum_rot_rad: float = 0.0  # sum |d theta| [rad]
@@ -60,7 +61,7 @@ class MonitorState:
         if unknown:
             raise StateError(f"unknown state key(s): {', '.join(sorted(unknown))}")
         state = cls(**data)
-        for name in ("duty_cycles", "observations"):
+        for name in ("duty_cycles", "observations", "rejections_in_row"):
             v = getattr(state, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                 raise StateError(f"{name}: expected a count, got {v!r}")

@@ -214,3 +214,20 @@ def test_bad_input_never_breaks_the_core(unit):
     snap = core.snapshot()
     assert math.isfinite(snap.wear_screw_m) and snap.wear_screw_m >= 0
     assert sum(snap.input_faults.values()) > 0
+
+
+def test_outlier_rejected_and_clearance_jump_followed(unit):
+    def clearance(k):
+        return 0.2e-3 + (50e-6 if k == 8 else 0.0) + (100e-6 if k >= 20 else 0.0)
+
+    synth = synth_cycles(30, noise=True, seed=12, clearance=clearance)
+    core = MonitorCore(unit, wear_rates=linear_rates(1e-12), clearance_growth=screw_growth)
+    for s, (t, v) in synth.signals().items():
+        core.add(s, t, v)
+    cycles = core.process(final=True)
+    snap = core.snapshot()
+    assert snap.input_faults["observation_rejected"] == 1 + 5  # the outlier, then 5 in a row: reset
+    assert snap.input_faults["clearance_reset"] == 1
+    assert abs(cycles[8].clearance_estimate_m - 0.2e-3) < 2e-6  # the outlier did not move the estimate
+    assert abs(cycles[19].clearance_estimate_m - 0.2e-3) < 2e-6
+    assert abs(snap.clearance_estimate_m - 0.3e-3) < 3 * snap.clearance_std_m
