@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from ebm_wear_monitor.errors import InputError
 
@@ -59,6 +60,8 @@ def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.twin import NOISELESS, SensorNoise, simulate_unit
 
+    if Path(args.out).exists():
+        raise InputError(f"{args.out} exists already; not overwriting a bag")
     unit = load_unit(args.params)
     effects: dict[str, float] = {}
     for name, magnitude in args.effect:
