@@ -188,7 +188,8 @@ class Trajectory:
     velocity: np.ndarray  # screw speed [rad/s]
     axial_force: np.ndarray  # clamp force F_cl [N]
     current: np.ndarray  # armature current I_a [A]
-    motor_torque: np.ndarray  # T_m = K_T I_a [N m], mean over the step that starts at the sample
+    motor_torque: np.ndarray  # T_m [N m]: K_T I_a at the sample (current-driven), or its mean over
+    # the step that starts at the sample (voltage-driven)
     friction_torque: np.ndarray  # T_f applied over the step that starts at the sample [N m]
     voltage: np.ndarray | None = None  # armature voltage E_a [V] (voltage-driven runs)
 
