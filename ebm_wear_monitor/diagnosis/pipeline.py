@@ -70,8 +70,8 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         sigma_torque=float(np.median(sc.sigma_torque)), sigma_force=float(np.median(sc.sigma_force)))
         for f in ties]
     gap_after = top.gap_after if found else ranking.gap_before
-    refit = evaluate(sc, friction_refit(nominal, float(np.abs(sc.model.w_m).max())), nominal_sse(sc))
-    base = {"dT_fs": nominal.T_fs, "dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
+    refit = evaluate(sc, friction_refit(nominal), nominal_sse(sc))
+    base = {"dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
     return ({
         "unit": rec.unit,
         "verdict": ranking.verdict,
@@ -86,7 +86,7 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         "significance_level": ranking.alpha,
         "near_ties": experiments,
         "friction_refit": refit.as_dict() | {
-            "nominal": {"T_fs": nominal.T_fs, "T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
+            "nominal": {"T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
             "refitted": {k[1:]: base[k] + float(v) for k, v in zip(refit.effect.params, refit.theta,
                                                                        strict=True)}},
         "cycles": {"total": int(np.unique(b.cycle).size),

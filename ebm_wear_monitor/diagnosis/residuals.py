@@ -31,12 +31,14 @@ integral of that velocity error over the block): the *re-anchored short-horizon
 simulation* of the velocity and angle signals.
 
 Friction follows 004 eq. 9, evaluated on the recorded state. Moving
-(|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest the static
-branch holds: T_f takes whatever value balances K_T I - T_L - J_me dw_m/dt as
-long as that stays within the stick band T_fs + G F, and is clipped to the band
-otherwise (the band test on the smoothed balance, so that noise is not clipped),
-so during force maintenance the residual is the amount by which the recorded
-holding torque lies *outside* the band the model allows (a dead-zone residual).
+(|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest (the stick
+branch) eq. 9 only bounds the friction, |T_f| <= T_fs + G F, and the friction
+takes whatever value balances K_T I - T_L - J_me dw_m/dt.  The residual model
+takes it so, i.e. blocks at rest carry no torque residual and the static level
+T_fs is not identified from the torque balance.  (A dead-zone residual, the
+excess of the recorded balance over the band, was tried: sensor noise crossing
+the band edge is clipped on one side only, which biases the static level
+upwards and made "larger T_fs" look significant on noise-only data.)
 
 **Force channel (004 eq. 4-5).**  The nut travel x = l theta_s / (2 pi) (screw
 angle from the recording, released position at theta_s = 0) predicts the clamp
@@ -211,15 +213,8 @@ class ResidualModel:
         self.sign = np.sign(w_smooth) * self.moving
         self.speed = np.abs(w_smooth)
         #: J_me dw_m/dt from the recorded speed (central differences, whose trapezoid integral over
-        #: a block telescopes to the block's speed change), and the torque balance the stick band
-        #: must hold, K_T I - J_me dw_m/dt, averaged over neighbouring samples *at rest* only, so that
-        #: sensor noise does not push it across the band edge (a one-sided clip would turn noise into
-        #: a bias) and moving samples do not leak into it
+        #: a block telescopes to the block's speed change): the inertia torque of samples at rest
         self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
-        rest = (~self.moving).astype(float)
-        balance = nominal.K_T * rec.current - self.inertia_torque
-        self.held_torque = uniform_filter1d(balance * rest, w, mode="nearest") / np.maximum(
-            uniform_filter1d(rest, w, mode="nearest"), 1e-12)
         self.x = nominal.lead * rec.angle / (2.0 * math.pi)  # nut travel, 004 eq. 4 [m]
         self.drive_torque = nominal.K_T * rec.current  # motor torque, 004 eq. 7 [N m]
         self.blocks = make_blocks(seg, rec.velocity, rec.axial_force, self.moving,
@@ -257,15 +252,16 @@ class ResidualModel:
         return (self.rec.axial_force - aug.force_bias) / (1.0 + aug.force_gain)
 
     def friction(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
-        """(friction torque T_f per sample [N m], load torque T_L per sample [N m]): 004 eq. 9 + ``aug``."""
+        """(friction torque T_f per sample [N m], load torque T_L per sample [N m]): 004 eq. 9 + ``aug``.
+
+        At rest the friction is taken as whatever balances the drive (the stick branch of eq. 9
+        without its band test, see the module docstring).
+        """
         n = self.nominal
         F = self.true_force(aug)
         T_L = n.load_ratio * F
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
-        band = np.maximum(n.T_fs + aug.dT_fs + (n.G + aug.dG) * F + aug.eff_base * T_L, 0.0)
-        need = self.held_torque - T_L  # friction the stuck drive must supply
-        excess = need - np.clip(need, -band, band)
-        stuck = self.drive_torque - T_L - self.inertia_torque - excess
+        stuck = self.drive_torque - T_L - self.inertia_torque  # whatever holds the drive (module doc)
         return np.where(self.moving, kinetic, stuck), T_L
 
     def force_model(self, aug: Augment) -> np.ndarray:
