@@ -7,6 +7,16 @@ first, for load balance); as each finishes, write its result files and the
 manifest atomically (so an interrupted run resumes where it stopped); finally
 assemble the fleet tables, JSON and report from every unit's result file.
 
+Incremental: when a unit's bags are the ones already processed plus new ones
+(a new day's recording), only the new bags are read: the monitor core
+continues from the saved state of each namespace (``MonitorState``), exactly
+as the live node continues after a restart, and the new applications are
+appended to the unit's history. A bag boundary is then an end of data (an
+application cut by it is closed as interrupted, the time gap between bags is
+not counted as a 'gap'), the only difference to processing all bags at once.
+If the new data start before the processed data end, the unit is processed
+again from its first bag.
+
 What a task receives: the fleet root, the unit's bag paths (workers read the
 bags from a shared file system) and the unit parameters (scattered once to
 every worker). What it returns: the section 4 entries and the per-application
@@ -19,23 +29,26 @@ the rest.
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor import __version__
-from ebm_wear_monitor.bagio import read_bags
+from ebm_wear_monitor.bagio import Recording, read_bags
 from ebm_wear_monitor.fleet.discover import BagFile, content_hash, discover
 from ebm_wear_monitor.fleet.manifest import Manifest
+from ebm_wear_monitor.monitor import MonitorState
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.replay.output import atomic_write, write_json
 from ebm_wear_monitor.replay.report import slug
 from ebm_wear_monitor.replay.result import UnitReplay
-from ebm_wear_monitor.replay.run import replay_unit, truth_by_namespace
+from ebm_wear_monitor.replay.run import judge, replay_unit, truth_by_namespace
 
 UNITS_DIR = "units"
 
@@ -46,6 +59,8 @@ class UnitOutcome:
 
     unit: str                                   # folder relative to the fleet root
     entries: list[UnitReplay] = field(default_factory=list)
+    namespaces: list[str] = field(default_factory=list)         # namespace of each entry
+    resumed: bool = False                       # continued from saved states over the new bags only
     failed_bags: dict[str, str] = field(default_factory=dict)   # bag relpath -> reason
     rejected: dict[str, str] = field(default_factory=dict)      # "<bag>: <topic>" -> reason
     error: str | None = None                    # why the whole unit failed, or None
@@ -56,21 +71,50 @@ def entry_name(folder: str, namespace: str, namespaces: int) -> str:
     return folder if namespaces == 1 else f"{folder}{namespace}"
 
 
-def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams) -> UnitOutcome:
-    """Read one unit's bags (time order) and run the monitor core over them; never raises."""
+def _continues(recording: Recording, states: dict[str, dict]) -> bool:
+    """True if ``recording`` holds the same namespaces as ``states`` and starts after each state's end."""
+    if set(recording.units) != set(states):
+        return False
+    for ns, data in recording.units.items():
+        end_ns = states[ns].get("last_stamp_ns")
+        first = min((float(np.nanmin(s.stamps)) for s in data.signals.values() if len(s.stamps)),
+                    default=np.inf)
+        if end_ns is not None and not first > end_ns * 1e-9:
+            return False
+    return True
+
+
+def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams,
+                 previous: dict | None = None) -> UnitOutcome:
+    """Read one unit's bags (time order) and run the monitor core over them; never raises.
+
+    ``previous``: ``{"bags": n, "states": {namespace: MonitorState dict}}`` when the first ``n``
+    bags were processed before; then only the others are read, continuing from those states.
+    """
     outcome = UnitOutcome(folder)
     try:
         paths = [Path(root) / r for r in relpaths]
         failed: dict[str, str] = {}
-        recording = read_bags(paths, failed=failed)
+        states: dict[str, dict] = {}
+        recording = None
+        if previous is not None:
+            recording = read_bags(paths[previous["bags"]:], failed=failed)
+            if _continues(recording, previous["states"]):
+                outcome.resumed, states = True, previous["states"]
+            else:
+                recording, failed = None, {}
+        if recording is None:
+            recording = read_bags(paths, failed=failed)
         outcome.failed_bags = {Path(p).relative_to(root).as_posix(): why for p, why in failed.items()}
         outcome.rejected = recording.rejected
         truths = truth_by_namespace(recording)
         for ns, data in recording.units.items():
-            result = replay_unit(data, params, truths.get(ns))
+            state = MonitorState.from_dict(states[ns]) if ns in states else None
+            result = replay_unit(data, params, truths.get(ns), state=state)
             result.unit = entry_name(folder, ns, len(recording.units))
             result.bags = [Path(b).relative_to(root).as_posix() for b in data.bags]
             outcome.entries.append(result)
+            outcome.namespaces.append(ns)
         if not outcome.entries:
             outcome.error = "; ".join(outcome.failed_bags.values()) or "no input data"
     except Exception as exc:  # a fleet task must report, not crash the fleet
@@ -83,9 +127,34 @@ def unit_file(folder: str) -> str:
     return f"{UNITS_DIR}/{slug(folder)}-{hashlib.sha1(folder.encode()).hexdigest()[:8]}.json"
 
 
+def _merge_previous(out: Path, outcome: UnitOutcome, rel: str) -> None:
+    """Prepend the earlier run's history to a resumed outcome (bags, messages, applications, failures)."""
+    before = json.loads((out / rel).read_text(encoding="utf-8"))
+    parquet = out / rel.replace(".json", ".parquet")
+    old_apps = pd.read_parquet(parquet) if parquet.exists() else pd.DataFrame(columns=["unit"])
+    old = {e["unit"]: e for e in before["entries"]}
+    for entry in outcome.entries:
+        prev = old.get(entry.unit, {})
+        entry.bags = prev.get("bags", []) + entry.bags
+        entry.messages += prev.get("messages", 0)
+        rows = old_apps[old_apps["unit"] == entry.unit].drop(columns="unit")
+        entry.applications = pd.concat([rows, entry.applications], ignore_index=True) if len(rows) else \
+            entry.applications
+        if entry.truth is not None and prev.get("ground_truth"):
+            entry.truth = {**entry.truth, "cycles_at_start": prev["ground_truth"]["cycles_at_start"]}
+        entry.prognostics = judge(entry.applications, entry.truth)
+    outcome.failed_bags = {**before["failed_bags"], **outcome.failed_bags}
+    outcome.rejected = {**before["rejected"], **outcome.rejected}
+
+
 def save_outcome(out: Path, outcome: UnitOutcome) -> str:
-    """Write a unit's JSON (and its per-application Parquet table) atomically; returns the JSON's relpath."""
+    """Write a unit's JSON (and its per-application Parquet table) atomically; returns the JSON's relpath.
+
+    A resumed outcome is first merged with the unit's earlier result files.
+    """
     rel = unit_file(outcome.unit)
+    if outcome.resumed:
+        _merge_previous(out, outcome, rel)
     tables = [e.applications.assign(unit=e.unit) for e in outcome.entries if len(e.applications)]
     parquet = out / rel.replace(".json", ".parquet")
     if tables:
@@ -94,7 +163,9 @@ def save_outcome(out: Path, outcome: UnitOutcome) -> str:
         parquet.unlink(missing_ok=True)
     write_json(out / rel, {"unit": outcome.unit, "error": outcome.error, "failed_bags": outcome.failed_bags,
                            "rejected": outcome.rejected,
-                           "entries": [e.to_json_dict() for e in outcome.entries]})
+                           "entries": [e.to_json_dict() for e in outcome.entries],
+                           "states": {ns: e.state for ns, e in zip(outcome.namespaces, outcome.entries,
+                                                                   strict=True)}})
     return rel
 
 
@@ -105,6 +176,7 @@ class FleetRun:
     units: dict[str, list[BagFile]]
     processed: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
+    resumed: list[str] = field(default_factory=list)
 
 
 def _hashes(client, root: Path, units: dict[str, list[BagFile]], manifest: Manifest) -> dict[str, str]:
@@ -115,6 +187,16 @@ def _hashes(client, root: Path, units: dict[str, list[BagFile]], manifest: Manif
     for bag, sha in zip(todo, fresh, strict=True):
         manifest.remember(bag, sha)
     return {b.relpath: manifest.bags[b.relpath]["sha256"] for b in bags}
+
+
+def _previous(manifest: Manifest, folder: str, hashes: list[str], digest: str, out: Path) -> dict | None:
+    """What a unit may continue from: its earlier bags are a prefix of its bags now, same parameters."""
+    entry = manifest.units.get(folder)
+    if not (entry and entry["status"] == "ok" and entry["params_digest"] == digest and entry["hashes"]
+            and hashes[: len(entry["hashes"])] == entry["hashes"] and (out / entry["file"]).exists()):
+        return None
+    states = json.loads((out / entry["file"]).read_text(encoding="utf-8")).get("states")
+    return {"bags": len(entry["hashes"]), "states": states} if states else None
 
 
 def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: UnitParams,
@@ -141,7 +223,8 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
             run.skipped.append(folder)
             continue
         future = client.submit(process_unit, str(root), folder, [b.relpath for b in units[folder]],
-                               params_future, pure=False)
+                               params_future, _previous(manifest, folder, unit_hashes, digest, out),
+                               pure=False)
         pending[future] = (folder, unit_hashes)
     manifest.save()  # the hashes, even if the run is interrupted now
     for future in as_completed(list(pending)):
@@ -156,6 +239,8 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
                                   "file": save_outcome(out, outcome)}
         manifest.save()
         run.processed.append(folder)
+        if outcome.resumed:
+            run.resumed.append(folder)
         if on_unit is not None:
             on_unit(outcome)
     return run

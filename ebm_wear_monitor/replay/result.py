@@ -40,10 +40,14 @@ class UnitReplay:
     prognostics: dict | None = None
     #: the ground-truth entry of this unit (bagio.sidecar schema), None without truth
     truth: dict | None = None
+    #: the monitor core's persistent state at the end (MonitorState.to_dict()), to continue later
+    state: dict | None = None
 
     def to_json_dict(self) -> dict:
-        """Section 4 entry plus ``bags``, ``messages`` and (when known) ``prognostics``."""
+        """Section 4 entry plus ``bags``, ``messages`` and, with ground truth, ``prognostics`` and
+        ``ground_truth`` (its ``eol_cycles`` and ``cycles_at_start``)."""
         out = {**self.summary, "unit": self.unit, "bags": self.bags, "messages": self.messages}
         if self.prognostics is not None:
             out["prognostics"] = self.prognostics
+            out["ground_truth"] = {k: self.truth.get(k) for k in ("eol_cycles", "cycles_at_start")}
         return out

@@ -25,7 +25,14 @@ import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor.bagio import Recording, UnitData, read_bags, read_ground_truth
-from ebm_wear_monitor.monitor import SIGNALS, CycleSummary, MonitorConfig, MonitorCore, MonitorSnapshot
+from ebm_wear_monitor.monitor import (
+    SIGNALS,
+    CycleSummary,
+    MonitorConfig,
+    MonitorCore,
+    MonitorSnapshot,
+    MonitorState,
+)
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.replay.prognostics import prognostics_metrics
 from ebm_wear_monitor.replay.result import APPLICATION_COLUMNS, UnitReplay
@@ -77,9 +84,14 @@ def _row(cycle: CycleSummary, snap: MonitorSnapshot | None) -> dict:
 
 def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *,
                 config: MonitorConfig | None = None, progress: Callable[[int], object] | None = None,
-                window_s: float = HISTORY_WINDOW_S) -> UnitReplay:
-    """Run the monitor core over one unit's signals; ``truth`` is its ground-truth entry (bagio.sidecar)."""
-    core = MonitorCore(params, config)
+                window_s: float = HISTORY_WINDOW_S, state: MonitorState | None = None) -> UnitReplay:
+    """Run the monitor core over one unit's signals; ``truth`` is its ground-truth entry (bagio.sidecar).
+
+    With ``state`` (an earlier replay's ``UnitReplay.state``) the core continues from it, as the node
+    does after a restart: counts, wear, filter and faults carry on; the applications table holds the
+    new applications only.
+    """
+    core = MonitorCore(params, config, state)
     bounds = _window_bounds(data, window_s)
     n_windows = len(next(iter(bounds.values()), []))
     start = dict.fromkeys(bounds, 0)
@@ -104,13 +116,22 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
     columns = list(dict.fromkeys([*APPLICATION_COLUMNS, *(rows[0] if rows else [])]))
     applications = pd.DataFrame(rows, columns=columns)
     result = UnitReplay(data.unit, {"unit": data.unit, **core.snapshot().to_json_dict()}, applications,
-                        bags=[str(b) for b in data.bags], messages=data.messages, truth=truth)
-    if truth is not None and truth.get("eol_cycles") is not None:
-        since_new = applications["index"].to_numpy(float) + float(truth.get("cycles_at_start", 0))
-        result.prognostics = prognostics_metrics(since_new,
-                                                 applications["cycles_p50"].to_numpy(float),
-                                                 float(truth["eol_cycles"]))
+                        bags=[str(b) for b in data.bags], messages=data.messages, truth=truth,
+                        state=core.state.to_dict())
+    result.prognostics = judge(applications, truth)
     return result
+
+
+def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
+    """Prognostics metrics of the median remaining life against ``truth`` (None without end of life).
+
+    Application ``k`` of the table is application ``cycles_at_start + k`` since new.
+    """
+    if truth is None or truth.get("eol_cycles") is None:
+        return None
+    since_new = applications["index"].to_numpy(float) + float(truth.get("cycles_at_start") or 0)
+    rul = applications["cycles_p50"].to_numpy(float)
+    return prognostics_metrics(since_new, rul, float(truth["eol_cycles"]))
 
 
 def truth_by_namespace(recording: Recording) -> dict[str, dict]:

@@ -10,12 +10,12 @@ import pandas as pd
 import pytest
 from rosbags.rosbag2 import Writer
 
-from ebm_wear_monitor.bagio import typestore
+from ebm_wear_monitor.bagio import Series, read_bags, typestore, write_unit_bag
 from ebm_wear_monitor.bagio.writer import STORAGES
 from ebm_wear_monitor.fleet.cluster import dask_client
 from ebm_wear_monitor.fleet.discover import discover
 from ebm_wear_monitor.fleet.manifest import Manifest
-from ebm_wear_monitor.fleet.pipeline import process_unit, run_fleet
+from ebm_wear_monitor.fleet.pipeline import process_unit, run_fleet, unit_file
 from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
 from ebm_wear_monitor.fleet.tables import assemble, write_tables
 from ebm_wear_monitor.params import load_unit
@@ -75,6 +75,15 @@ def serial(fleet_dir, params):
             for u, bags in units.items()}
 
 
+def _result(out, unit: str) -> dict:
+    (entry,) = json.loads((out / unit_file(unit)).read_text())["entries"]
+    return entry
+
+
+def _applications(out, unit: str) -> pd.DataFrame:
+    return pd.read_parquet(out / unit_file(unit).replace(".json", ".parquet"))
+
+
 def _entries(outcome) -> list[dict]:
     return json.loads(json.dumps([e.to_json_dict() for e in outcome.entries]))
 
@@ -122,18 +131,34 @@ def test_incremental_and_resumable(tmp_path, fleet_dir, client, params):
     assert sorted(resumed.processed + resumed.skipped) == sorted(resumed.units)
     again = run_fleet(client, fleet_dir, out, params)
     assert again.processed == []
-    # a new day's recording of one unit: only that unit runs again
     unit = "train01/car2/embu0"
-    shutil.copytree(fleet_dir / unit / "2026-11-21.bag", fleet_dir / unit / "2026-11-22.bag")
+    before = _result(out, unit)
+    # a bag whose data lie before what was processed: the unit runs again from its first bag
+    extra = fleet_dir / unit / "2026-11-22.bag"
+    shutil.copytree(fleet_dir / unit / "2026-11-21.bag", extra)
+    rerun = run_fleet(client, fleet_dir, out, params)
+    assert (rerun.processed, rerun.resumed) == ([unit], [])
+    shutil.rmtree(extra)
+    assert run_fleet(client, fleet_dir, out, params).processed == [unit]
+    assert _result(out, unit) == before
+    # a new day's recording: only the new bag is read, the core continues from the saved state
+    day = read_bags([fleet_dir / unit / "2026-11-21.bag"]).units["/embu"].signals
+    write_unit_bag(extra, None, {"/embu": {k: Series(s.stamps + 86400.0, s.values) for k, s in day.items()}})
     try:
-        assert run_fleet(client, fleet_dir, out, params).processed == [unit]
+        resumed = run_fleet(client, fleet_dir, out, params)
+        assert (resumed.processed, resumed.resumed) == ([unit], [unit])
+        after = _result(out, unit)
+        assert after["bags"] == [*before["bags"], f"{unit}/2026-11-22.bag"]
+        assert after["duty_cycles"] > before["duty_cycles"]
+        apps = _applications(out, unit)  # the earlier history, then the new applications
+        assert apps["index"].tolist() == list(range(1, after["duty_cycles"] + 1))
+        assert after["wear"]["screw_raceway_m"] > before["wear"]["screw_raceway_m"]
     finally:
-        shutil.rmtree(fleet_dir / unit / "2026-11-22.bag")
+        shutil.rmtree(extra)
 
 
 def test_ranking_by_p05_puts_urgent_first_and_unknown_last(tmp_path):
     """Three result files with known p05 (one without measurable growth) rank 2 < 7 < None."""
-    from ebm_wear_monitor.fleet.pipeline import unit_file
     from ebm_wear_monitor.replay.output import write_json
 
     manifest = Manifest.load(tmp_path)
