@@ -1,0 +1,47 @@
+"""Life-level gap: wear-level effects recovered from duty-cycle summaries; 000's own gap worked out."""
+
+import numpy as np
+import pytest
+
+from ebm_wear_monitor.diagnosis.life import LifeData, diagnose_life, paper000_example
+
+
+def _data(kind: str, seed: int = 0) -> LifeData:
+    rng = np.random.default_rng(seed)
+    n = np.arange(0, 200_000, 2_000, dtype=float)
+    force = rng.choice([10e3, 15e3, 20e3], n.size)
+    g = 1.4843e-10 * force / 15e3  # model growth per cycle, proportional to load (Archard)
+    true = {"none": g, "wear_coefficient": 1.2 * g,
+            "running_in": g + 4e-6 / 20_000 * np.exp(-n / 20_000),
+            "load_dependent_wear": g * (1 + 0.8 * (force / force.mean() - 1))}[kind]
+    x = np.concatenate(([0.0], np.cumsum(np.diff(n) * 0.5 * (true[1:] + true[:-1]))))
+    return LifeData(n, x + rng.normal(0, 2e-7, n.size), g, force=force)
+
+
+@pytest.mark.parametrize("kind", ["running_in", "load_dependent_wear"])
+def test_life_effect_named(kind):
+    res = diagnose_life(_data(kind))
+    assert res["verdict"] == "effect" and res["effect"] == kind
+
+
+def test_wear_coefficient_ties_with_ball_share():
+    res = diagnose_life(_data("wear_coefficient"))
+    assert res["effect"] in ("wear_coefficient", "ball_share")
+    other = "ball_share" if res["effect"] == "wear_coefficient" else "wear_coefficient"
+    assert other in res["near_ties"]
+    s = next(f for f in res["ranking"] if f["effect"] == "wear_coefficient")["parameters"][0]
+    assert s == pytest.approx(0.2, abs=0.01)
+
+
+def test_life_none_on_model_data():
+    assert diagnose_life(_data("none", seed=3))["verdict"] == "none"
+
+
+def test_paper000_worked_example():
+    ex = paper000_example()
+    ratio = 1.65e-10 / 1.4843e-10
+    assert ex["wear_coefficient"]["s"] == pytest.approx(ratio - 1)
+    # ball share beta with (1 - 1/3) / (1 - beta) = ratio
+    assert (2 / 3) / (1 - ex["ball_share"]["beta"]) == pytest.approx(ratio)
+    assert 0.39 < ex["ball_share"]["beta"] < 0.41
+    assert ex["running_in"]["A_m"] == pytest.approx((1.65e-10 - 1.4843e-10) * 200_000)
