@@ -78,13 +78,8 @@ class Player:
         self.publishers: list[Publisher] = [
             node.create_publisher(_float64_stamped(), f"{ns.rstrip('/')}/{INPUT_TOPICS[s]}", qos)
             for s in signals]
+        self._signals = list(signals.values())
         self._which, self._key = publish_order(signals)
-        per_signal = [encode_float64_stamped(st, v) for st, v in signals.values()]
-        position = np.zeros(len(per_signal), dtype=np.int64)
-        self._records: list[bytes] = []
-        for w in self._which.tolist():
-            self._records.append(per_signal[w][position[w]])
-            position[w] += 1
 
     def wait_for_subscribers(self, count: int, timeout_s: float) -> bool:
         """Wait until every topic has ``count`` matched subscriptions (discovery, 60-250 ms here)."""
@@ -95,11 +90,29 @@ class Player:
             time.sleep(0.01)
         return True
 
-    def play(self, speed: float = 1.0) -> int:
-        """Publish every sample (paced at ``speed`` x real time, or unpaced when 0); returns the count."""
+    def _records(self, stamp_offset_s: float) -> list[bytes]:
+        """Serialised messages in publishing order, header stamps shifted by ``stamp_offset_s``."""
+        per_signal = [encode_float64_stamped(st + stamp_offset_s, v) for st, v in self._signals]
+        position = np.zeros(len(per_signal), dtype=np.int64)
+        records = []
+        for w in self._which.tolist():
+            records.append(per_signal[w][position[w]])
+            position[w] += 1
+        return records
+
+    def play(self, speed: float = 1.0, stamp_offset_s: float = 0.0, start_wall_s: float | None = None) -> int:
+        """Publish every sample (paced at ``speed`` x real time, or unpaced when 0); returns the count.
+
+        ``stamp_offset_s`` shifts every header stamp; ``start_wall_s`` (``time.time()`` scale) is the
+        instant of the first message (default: at once). The benchmark uses both to stamp each
+        message with its wall-clock publish time.
+        """
+        records = self._records(stamp_offset_s)
         pubs = [p.publish for p in self.publishers]
         which = self._which.tolist()
         start = time.monotonic()
+        if start_wall_s is not None:
+            start += start_wall_s - time.time()
         due = self._key / speed if speed > 0 else None
         i, n = 0, len(which)
         while i < n:
@@ -111,7 +124,7 @@ class Player:
                     time.sleep(min(0.001, max(0.0, due[i] - (time.monotonic() - start))))
                     continue
             for k in range(i, end):
-                pubs[which[k]](self._records[k])
+                pubs[which[k]](records[k])
             i = end
         return n
 
