@@ -7,7 +7,8 @@ Incremental and resumable: units whose bags (by content hash) and parameters
 are unchanged since the last run into the same ``--out`` are skipped; an
 interrupted run continues where it stopped. A failing bag is reported with its
 reason and the fleet continues. ``--generate N`` first writes a synthetic
-fleet of N units into DIR through the digital twin (demos and tests).
+fleet of N units into DIR through the digital twin (demos and tests), with its
+accelerated-life unit file ``DIR/params.yaml`` (used by default for DIR).
 Outputs in ``--out``: ``units.parquet``, ``applications.parquet``,
 ``fleet_summary.csv`` (ranked by p05 remaining life), ``fleet.json``,
 ``report/index.html``, ``manifest.json``, ``units/`` (per-unit results).
@@ -26,7 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Arguments of ``ebm-wear fleet``."""
     parser.add_argument("dir", metavar="DIR", help="fleet directory tree of units' bags")
     parser.add_argument("--params", metavar="P", default=None,
-                        help="unit parameter YAML, or a reference name (default: embu_000)")
+                        help="unit parameter YAML, or a reference name (default: DIR/params.yaml if "
+                             "present, as --generate writes it, else embu_000)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="existing Dask scheduler (tcp://host:port); default: a local cluster")
     parser.add_argument("--workers", type=int, default=None, metavar="N",
@@ -78,14 +80,15 @@ def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.replay.output import write_json
 
     _check(args)
-    params = load_unit(args.params)
+    fleet_params = Path(args.dir) / "params.yaml"
+    params = load_unit(args.params if args.params or not fleet_params.is_file() else fleet_params)
     out = Path(args.out)
     with dask_client(args.scheduler, args.workers) as client:
         if args.generate is not None:
             units = scenarios(args.generate, args.seed, cycles_per_bag=args.cycles_per_bag,
                               bags_per_unit=args.bags_per_unit, rate_hz=args.rate)
-            bags = generate_fleet(args.dir, units, params, client)
-            print(f"generated {len(units)} units, {len(bags)} bags in {args.dir}")
+            params, bags = generate_fleet(args.dir, units, params, client)
+            print(f"generated {len(units)} units, {len(bags)} bags in {args.dir} (unit file: {fleet_params})")
         with tqdm(unit="unit", desc="fleet", disable=args.no_progress or None, file=sys.stderr) as bar:
             fleet = run_fleet(client, args.dir, out, params, on_unit=lambda _: bar.update())
     tables = assemble(out, list(fleet.units), Manifest.load(out))

@@ -1,30 +1,42 @@
 """A synthetic fleet for tests and demos, recorded through the digital twin's simulator.
 
+Accelerated life: the fleet's unit file is the given one with its wear
+coefficient k_slip (000 eq. 23) multiplied by ``wear_scale`` (default 2e4: the
+reference unit then goes from the nominal clearance to the 0.5 mm limit in a
+few hundred applications), so a recording of tens of applications covers a
+measurable share of the life. It is written to ``DIR/params.yaml``; the twin
+and the monitor both use it, so the monitor's wear model is right on average.
+
 Each unit gets its own scenario drawn from one seeded generator: usage
-(demanded clamp forces, hold and rest times, applications per day), wear
-(an accelerated-life factor on the twin's wear, so a short recording spans a
-measurable part of the life; applications made before the recording), an
-unmodelled physical effect of the catalog in some units, and input faults in
-some recordings (duplicated, late and non-finite messages, a gap on one topic)
-of the kinds the monitor core must survive. Every bag carries the simulator's
-ground truth (``bagio.sidecar``), so the fleet report can judge the remaining-life
-estimates. Layout: ``DIR/trainTT/carC/embuE/<date>.bag`` (rosbag2 directories, mcap
-or sqlite3 alternately), plus ``DIR/scenarios.json``.
+(demanded clamp forces, hold and rest times, applications per day), wear (a
+per-unit factor around 1 on the twin's wear, which the monitor's filter has to
+learn; a few applications made before the recording), an unmodelled physical
+effect of the catalog in some units, and input faults in some recordings
+(duplicated, late and non-finite messages, a gap on one topic) of the kinds
+the monitor core must survive. Every bag carries the simulator's ground truth
+(``bagio.sidecar``), so the fleet report can judge the remaining-life
+estimates. Layout: ``DIR/trainTT/carC/embuE/<date>.bag`` (rosbag2 directories,
+mcap or sqlite3 alternately), plus ``DIR/params.yaml`` and ``DIR/scenarios.json``.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from ebm_wear_monitor.bagio import Series, write_unit_bag
 from ebm_wear_monitor.params import UnitParams
-from ebm_wear_monitor.replay.output import write_json
+from ebm_wear_monitor.params.unit import unit_from_dict
+from ebm_wear_monitor.replay.output import atomic_write, write_json
 
+#: default factor on the wear coefficient k_slip of a synthetic fleet's unit file [-]
+WEAR_SCALE = 2e4
 #: first recording day, 2026-11-20 06:00 UTC [s since the epoch]
 EPOCH_S = 1_795_154_400.0
 DAY_S = 86_400.0
@@ -47,7 +59,7 @@ class UnitScenario:
     demands_n: tuple[float, ...]     # demanded clamp forces, cycled [N]
     hold_s: float                    # force-maintenance time [s]
     rest_s: float                    # idle time after each release [s]
-    wear_acceleration: float         # factor on the twin's wear increments [-]
+    wear_acceleration: float         # this unit's factor on the twin's wear increments [-]
     prior_cycles: int                # applications before the first recording [-]
     rate_hz: float                   # sample rate [Hz]
     storage: str                     # "mcap" or "sqlite3"
@@ -56,7 +68,7 @@ class UnitScenario:
 
 
 def scenarios(n_units: int, seed: int = 0, *, cycles_per_bag: int = 12, bags_per_unit: int = 2,
-              rate_hz: float = 200.0, wear_acceleration: float = 2e4) -> list[UnitScenario]:
+              rate_hz: float = 200.0) -> list[UnitScenario]:
     """``n_units`` varied scenarios (8 units per train, 2 per car), reproducible from ``seed``."""
     rng = np.random.default_rng(seed)
     out = []
@@ -68,8 +80,8 @@ def scenarios(n_units: int, seed: int = 0, *, cycles_per_bag: int = 12, bags_per
             bags=bags_per_unit, cycles_per_bag=max(2, round(cycles_per_bag * rng.uniform(0.7, 1.3))),
             demands_n=tuple(float(d) for d in rng.choice([6e3, 10e3, 15e3, 20e3], size=k, replace=False)),
             hold_s=float(rng.uniform(0.3, 1.0)), rest_s=float(rng.uniform(0.2, 0.6)),
-            wear_acceleration=float(wear_acceleration * np.exp(rng.uniform(-1.0, 1.0))),
-            prior_cycles=int(rng.integers(0, 5000)), rate_hz=rate_hz,
+            wear_acceleration=float(np.exp(rng.uniform(-0.5, 0.5))),
+            prior_cycles=int(rng.integers(0, 40)), rate_hz=rate_hz,
             storage=("mcap", "sqlite3")[i % 2], effects=effect, faults=bool(rng.random() < 0.4)))
     return out
 
@@ -123,15 +135,30 @@ def write_unit(root: str | os.PathLike, scenario: UnitScenario, params: UnitPara
     return paths
 
 
+def accelerated(params: UnitParams, wear_scale: float) -> UnitParams:
+    """``params`` with the wear coefficient k_slip multiplied by ``wear_scale`` (accelerated life)."""
+    raw = copy.deepcopy(params.raw)
+    raw["wear"]["k_slip"] = float(raw["wear"]["k_slip"]) * wear_scale
+    raw["name"] = f"{params.name}, wear x{wear_scale:g}"
+    return unit_from_dict(raw, f"{params.name} (accelerated)")
+
+
 def generate_fleet(root: str | os.PathLike, units: list[UnitScenario], params: UnitParams,
-                   client=None) -> list[Path]:
-    """Write every unit's bags under ``root`` (in parallel on a Dask ``client`` if given) and
-    ``root/scenarios.json``; returns all bag paths."""
+                   client=None, wear_scale: float = WEAR_SCALE) -> tuple[UnitParams, list[Path]]:
+    """Write every unit's bags under ``root`` (in parallel on a Dask ``client`` if given),
+    ``root/params.yaml`` (``params`` accelerated by ``wear_scale``) and ``root/scenarios.json``.
+
+    Returns the accelerated unit parameters (to process the fleet with) and all bag paths.
+    """
     root = Path(root)
+    params = accelerated(params, wear_scale)
+    root.mkdir(parents=True, exist_ok=True)
+    atomic_write(root / "params.yaml",
+                 lambda tmp: tmp.write_text(yaml.safe_dump(params.raw, sort_keys=False), encoding="utf-8"))
     if client is None:
         paths = [write_unit(root, s, params) for s in units]
     else:
         paths = client.gather(client.map(write_unit, [str(root)] * len(units), units, params=params,
                                          pure=False))
     write_json(root / "scenarios.json", [dataclasses.asdict(s) for s in units])
-    return [p for unit_paths in paths for p in unit_paths]
+    return params, [p for unit_paths in paths for p in unit_paths]

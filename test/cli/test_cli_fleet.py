@@ -34,8 +34,9 @@ def test_generate_and_run_on_an_existing_scheduler(tmp_path, scheduler, capsys):
     assert sorted(u["unit"] for u in units) == names
     assert len(pd.read_parquet(out / "units.parquet")) == 3
     assert (out / "report" / "index.html").exists()
+    assert (fleet / "params.yaml").exists()
     assert main(["fleet", str(fleet), "--scheduler", scheduler, "--out", str(out), "--no-progress"]) == 0
-    assert "0 processed, 3 unchanged" in capsys.readouterr().out
+    assert "0 processed, 3 unchanged" in capsys.readouterr().out  # same bags, same unit file: skipped
 
 
 def test_bad_input_exits_2(tmp_path, capsys, monkeypatch):

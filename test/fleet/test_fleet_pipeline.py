@@ -39,24 +39,30 @@ def _wrong_type_bag(path) -> None:
 
 
 @pytest.fixture(scope="module")
-def params():
-    return load_unit()
-
-
-@pytest.fixture(scope="module")
-def fleet_dir(tmp_path_factory, params):
+def generated(tmp_path_factory):
     """20 synthetic units (2 bags of 3 applications each, 100 Hz), a truncated extra bag in one unit
-    and a unit whose only bag carries the wrong message type."""
+    and a unit whose only bag carries the wrong message type; and the fleet's unit parameters."""
     root = tmp_path_factory.mktemp("fleet") / "fleet"
     units = scenarios(N_UNITS, seed=11, cycles_per_bag=3, bags_per_unit=2, rate_hz=100.0)
-    generate_fleet(root, units, params)
+    params, _ = generate_fleet(root, units, load_unit())
     good = root / TRUNCATED_UNIT / "2026-11-20.bag"
     bad = root / TRUNCATED_UNIT / "2026-11-30.bag"
     shutil.copytree(good, bad)
     (data,) = (p for p in bad.iterdir() if p.suffix in (".mcap", ".db3"))
     data.write_bytes(data.read_bytes()[: data.stat().st_size // 3])
     _wrong_type_bag(root / WRONG_TYPE_UNIT / "2026-11-20.bag")
-    return root
+    return root, params
+
+
+@pytest.fixture(scope="module")
+def fleet_dir(generated):
+    return generated[0]
+
+
+@pytest.fixture(scope="module")
+def params(generated):
+    assert generated[1].digest() == load_unit(generated[0] / "params.yaml").digest()  # the fleet unit file
+    return generated[1]
 
 
 @pytest.fixture(scope="module")
