@@ -50,7 +50,14 @@ from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorCore, load_state
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.ros import messages
-from ebm_wear_monitor.ros.diagnostics import Health, Thresholds, assess, diagnostic_array, unit_status
+from ebm_wear_monitor.ros.diagnostics import (
+    Health,
+    Thresholds,
+    assess,
+    diagnostic_array,
+    namespace_parts,
+    unit_status,
+)
 from ebm_wear_monitor.ros.inputs import InputBuffer
 from ebm_wear_monitor.ros.parameters import MONITOR_NAMES, NodeParameters
 from ebm_wear_monitor.ros.qos import event_qos, input_qos, latched_qos
@@ -181,7 +188,7 @@ class WearMonitorNode:
         values |= {f"received_{s}": b.received for s, b in self.inputs.items()}
         values |= {f"age_{s}_s": a for s, a in ages.items()}
         values |= {f"fault_{k}": v for k, v in faults.items() if k not in snap.input_faults}
-        values |= {"state_file": str(self.state_path), "state_note": self.state_note}
+        values |= {"state_file": str(self.state_path), "state_note": self.state_note} | namespace_parts(ns)
         status = unit_status(self.node.get_fully_qualified_name(), ns.strip("/") or "/", level, text, values)
         self.pub_diag.publish(diagnostic_array(self.node.get_clock().now().to_msg(), [status]))
 

@@ -73,12 +73,14 @@ def test_thresholds_change_at_run_time_only_to_valid_values(procs, tmp_path) -> 
 def test_a_corrupt_state_file_is_reported_kept_aside_and_the_node_starts_fresh(procs, tmp_path) -> None:
     (tmp_path / STATE_FILE).write_text('{"format": "ebm_wear_monitor.monitor_state", "sta')  # torn write
     lines = procs.listener()
-    node = procs.node("-r", "__ns:=/embu", state_dir=tmp_path)
+    node = procs.node("-r", "__ns:=/train7/car3/embu2", state_dir=tmp_path)
     seen = lines.wait_until(lambda s: any(m["topic"] == "diagnostics" for m in s), 30)
     status = next(m for m in seen if m["topic"] == "diagnostics")["msg"]["status"][0]
     kv = {v["key"]: v["value"] for v in status["values"]}
     assert "corrupt state" in kv["state_note"] and kv["duty_cycles"] == "0"
-    assert status["name"] == "/embu/wear_monitor" and status["hardware_id"] == "embu"
+    assert status["name"] == "/train7/car3/embu2/wear_monitor"
+    assert status["hardware_id"] == "train7/car3/embu2"
+    assert (kv["train"], kv["car"], kv["embu"]) == ("train7", "car3", "embu2")
     assert list(tmp_path.glob(f"{STATE_FILE}.corrupt-*"))
     node.send_signal(signal.SIGINT)
     assert node.wait(timeout=20) == 0
