@@ -183,6 +183,7 @@ class WearMonitorNode:
             Thresholds(p.stale_timeout_s, p.min_input_rate_hz, p.clearance_warn_fraction,
                        p.remaining_cycles_warn))
         self.faults_reported = total
+        self.core_error = ""  # ERROR for the period(s) with a failure; the count stays in core_errors
         ns = self.node.get_namespace()
         values = messages.diagnostic_values(snap) | {f"rate_{s}_hz": r for s, r in rates.items()}
         values |= {f"received_{s}": b.received for s, b in self.inputs.items()}

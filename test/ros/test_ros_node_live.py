@@ -41,13 +41,14 @@ def rel(a: float, b: float) -> float:
 
 
 @pytest.mark.timeout(90)
-def test_node_wear_equals_the_offline_core_on_the_same_bag(procs, make_bag, tmp_path) -> None:
+@pytest.mark.parametrize("executor", ["events", "single_threaded"])
+def test_node_wear_equals_the_offline_core_on_the_same_bag(procs, make_bag, tmp_path, executor) -> None:
     bag, _ = make_bag(n_cycles=4, rate_hz=500.0)
     cycles, snap = offline(bag)
     assert len(cycles) == 4 and snap.duty_cycles == 4
     lines = procs.listener()
     node = procs.node("-r", "__ns:=/embu", state_dir=tmp_path / "state",
-                      params={"qos_reliability": "reliable"})
+                      params={"qos_reliability": "reliable", "executor": executor})
     player = procs.player(bag, "--reliable", "--speed", "5")
     assert player.wait(timeout=60) == 0, player.stderr.read()
     seen = lines.wait_until(
