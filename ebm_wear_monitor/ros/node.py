@@ -202,9 +202,25 @@ def make_executor(kind: str) -> Executor:
     return SingleThreadedExecutor()
 
 
+def usage() -> str:
+    """``--help`` text: how to run the node and every parameter with its default and meaning."""
+    from ebm_wear_monitor.ros.parameters import SPECS
+    lines = ["usage: ebm-wear-monitor [--ros-args [-r __ns:=/train7/car3/embu2] [-p NAME:=VALUE]... "
+             "[--params-file FILE]]", "",
+             "The live wear monitor of one EMBU (ROS 2 node 'wear_monitor'). Parameters:"]
+    for spec in SPECS:
+        lines.append(f"  {spec.name} (default {spec.default!r}{'' if spec.runtime else ', read-only'}): "
+                     f"{spec.description}")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the node until SIGINT/SIGTERM; exit 0 after saving the state, 2 on a start-up error."""
     args = list(sys.argv if argv is None else argv)
+    own = args[1:args.index("--ros-args")] if "--ros-args" in args else args[1:]
+    if "-h" in own or "--help" in own:
+        sys.stdout.write(usage())
+        return 0
     stop: list[int] = []
 
     def request_stop(signum: int, _frame: object) -> None:

@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 
+from ebm_wear_monitor.ros.parameters import SPECS
 from ebm_wear_monitor.ros.player import publish_order, unrolled_time
 
 
@@ -25,3 +30,18 @@ def test_merge_keeps_each_signals_order_and_interleaves_by_time() -> None:
     # angle and velocity alternate: both regular, velocity half a sample later
     av = which[which < 2]
     assert av.tolist() == [0, 1] * 5
+
+
+def test_player_reports_a_missing_bag_in_one_line_with_status_2(tmp_path) -> None:
+    run = subprocess.run([sys.executable, "-m", "ebm_wear_monitor.ros.player", str(tmp_path / "nope")],
+                         capture_output=True, text=True, timeout=60, check=False)
+    assert run.returncode == 2
+    assert run.stderr.count("\n") == 1 and "nope" in run.stderr
+
+
+def test_node_help_lists_every_parameter() -> None:
+    run = subprocess.run([str(Path(sys.executable).parent / "ebm-wear-monitor"), "--help"],
+                         capture_output=True, text=True, timeout=60, check=False)
+    assert run.returncode == 0
+    for spec in SPECS:
+        assert f"  {spec.name} (default" in run.stdout
