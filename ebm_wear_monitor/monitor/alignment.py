@@ -17,6 +17,8 @@ under one fault kind (the first that applies, in this order):
                      time range already released to the segmenter
 ``duplicate``        stamp already received on that topic (the first one is kept)
 
+and ``reanchored`` when a topic's clock is re-anchored after a run of backward stamps;
+
 and, for samples that are kept but imperfect:
 
 ``out_of_order``     arrived behind its topic's newest stamp but within the window: sorted in
@@ -92,6 +94,7 @@ class _Topic:
     keys: np.ndarray = field(default_factory=lambda: np.empty(0, np.int64))  # pending, sorted, unique
     values: np.ndarray = field(default_factory=lambda: np.empty(0))
     newest: int = _NO_STAMP  # newest finite stamp key seen on this topic
+    backwards_run: int = 0  # samples in a row (at the end so far) that were 'stamp_backwards'
     accepted: int = 0
     first_ns: int | None = None
     last_ns: int | None = None
@@ -122,6 +125,7 @@ class InputAligner:
         self._jump = int(np.ceil(config.backwards_jump_s * 1e9 / q))
         self._stale = int(np.ceil(config.stale_after_s * 1e9 / q))
         self._gap = int(np.floor(config.gap_s * 1e9 / q))
+        self._reanchor = int(config.reanchor_after_samples)
         self._bounds = {
             "angle": (-config.max_abs_angle_rad, config.max_abs_angle_rad),
             "velocity": (-config.max_speed_rad_s, config.max_speed_rad_s),
@@ -150,7 +154,13 @@ class InputAligner:
             self.faults[signal][kind] = self.faults[signal].get(kind, 0) + int(n)
 
     def _accept(self, signal: str, topic: _Topic) -> None:
-        """Classify the queued samples of one topic and merge the good ones into its pending buffer."""
+        """Classify the queued samples of one topic and merge the good ones into its pending buffer.
+
+        A topic whose stamps stay behind its newest by more than ``backwards_jump_s`` for
+        ``reanchor_after_samples`` samples in a row is re-anchored at the latest of them: one
+        glitched stamp from the future cannot blind it for ever (data before the release
+        horizon, e.g. a bag played again, is still dropped as late).
+        """
         if not topic.raw:
             return
         stamps = np.concatenate([r[0] for r in topic.raw]) if len(topic.raw) > 1 else topic.raw[0][0]
@@ -158,36 +168,57 @@ class InputAligner:
         topic.raw.clear()
         ns, ok_stamp = stamps_to_ns(stamps)
         keys = ns // self._quantum
-        # newest key seen *before* each sample, in arrival order (running maximum over finite stamps)
-        running = np.maximum.accumulate(np.where(ok_stamp, keys, _NO_STAMP))
-        before = np.empty_like(running)
-        before[0] = topic.newest
-        np.maximum(running[:-1], topic.newest, out=before[1:])
-        topic.newest = int(max(topic.newest, running[-1]))
+        start, n = 0, keys.size
+        while start < n:
+            sl = slice(start, n)
+            # newest key seen *before* each sample, in arrival order (running maximum over finite stamps)
+            running = np.maximum.accumulate(np.where(ok_stamp[sl], keys[sl], _NO_STAMP))
+            before = np.empty_like(running)
+            before[0] = topic.newest
+            np.maximum(running[:-1], topic.newest, out=before[1:])
+            back = ok_stamp[sl] & (before != _NO_STAMP) & (before - keys[sl] > max(self._jump, self._window))
+            pos = np.arange(back.size)
+            last_forward = np.maximum.accumulate(np.where(back, -1, pos))
+            run = np.where(last_forward < 0, pos + 1 + topic.backwards_run, pos - last_forward)
+            hit = np.flatnonzero(back & (run >= self._reanchor))
+            end = start + int(hit[0]) + 1 if hit.size else n
+            part = slice(start, end)
+            self._classify(signal, topic, ns=ns[part], ok_stamp=ok_stamp[part], keys=keys[part],
+                           values=values[part], before=before[: end - start])
+            if hit.size:
+                topic.newest, topic.backwards_run = int(keys[end - 1]), 0
+                self.count(signal, "reanchored", 1)
+            else:
+                topic.newest = int(max(topic.newest, running[-1]))
+                topic.backwards_run = int(run[-1]) if back[-1] else 0
+            start = end
 
+    def _classify(self, signal: str, topic: _Topic, *, ns: np.ndarray, ok_stamp: np.ndarray,
+                  keys: np.ndarray, values: np.ndarray, before: np.ndarray) -> None:
+        """Count the faults of samples (newest key before each: ``before``); merge the good ones."""
         lo, hi = self._bounds[signal]
         finite = np.isfinite(values)
         bad = ~ok_stamp
-        self.count(signal, "bad_stamp", bad.sum())
+        self.count(signal, "bad_stamp", np.count_nonzero(bad))
         kind = ~bad & ~finite
-        self.count(signal, "non_finite", kind.sum())
+        self.count(signal, "non_finite", np.count_nonzero(kind))
         bad |= kind
         if signal == "axial_force":
             kind = ~bad & (values < lo)
-            self.count(signal, "negative", kind.sum())
+            self.count(signal, "negative", np.count_nonzero(kind))
             bad |= kind
             kind = ~bad & (values > hi)
         else:
             kind = ~bad & ((values < lo) | (values > hi))
-        self.count(signal, "absurd", kind.sum())
+        self.count(signal, "absurd", np.count_nonzero(kind))
         bad |= kind
         has_before = before != _NO_STAMP
         behind = np.where(has_before, before - keys, 0)
         kind = ~bad & has_before & (behind > self._jump) & (behind > self._window)
-        self.count(signal, "stamp_backwards", kind.sum())
+        self.count(signal, "stamp_backwards", np.count_nonzero(kind))
         bad |= kind
         kind = ~bad & ((has_before & (behind > self._window)) | (keys < self._released_key))
-        self.count(signal, "late", kind.sum())
+        self.count(signal, "late", np.count_nonzero(kind))
         bad |= kind
         good = np.flatnonzero(~bad)
         merged = np.concatenate([topic.keys, keys[good]])
@@ -195,9 +226,9 @@ class InputAligner:
         is_first = np.zeros(merged.size, dtype=bool)
         is_first[first] = True
         new_first = is_first[topic.keys.size:]
-        self.count(signal, "duplicate", (~new_first).sum())
+        self.count(signal, "duplicate", np.count_nonzero(~new_first))
         good = good[new_first]
-        self.count(signal, "out_of_order", (has_before[good] & (behind[good] > 0)).sum())
+        self.count(signal, "out_of_order", np.count_nonzero(has_before[good] & (behind[good] > 0)))
         if good.size:
             topic.accepted += int(good.size)
             first_ns, last_ns = int(ns[good].min()), int(ns[good].max())
@@ -213,13 +244,15 @@ class InputAligner:
         """Aligned samples whose stamps can no longer be completed by later arrivals (all if ``final``)."""
         for signal, topic in self._topics.items():
             self._accept(signal, topic)
-        newest = [t.newest for t in self._topics.values()]
+        newest = sorted(t.newest for t in self._topics.values())
         if final:
             horizon = np.iinfo(np.int64).max
         else:
-            top = max(newest)
-            live = [n for n in newest if n != _NO_STAMP and top - n <= self._stale]
-            horizon = min(live) - self._window if live and top != _NO_STAMP else _NO_STAMP
+            # a topic lagging the median topic by more than stale_after_s no longer holds the others
+            # back (a dead sensor); the median ignores one topic running ahead (a glitched stamp)
+            median = newest[len(newest) // 2]
+            live = [n for n in newest if n != _NO_STAMP and median - n <= self._stale]
+            horizon = min(live) - self._window if live and median != _NO_STAMP else _NO_STAMP
         horizon = max(horizon, self._released_key)
         released = {}
         for signal, topic in self._topics.items():

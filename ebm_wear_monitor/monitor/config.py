@@ -48,12 +48,17 @@ class MonitorConfig:
         "sampled together, so 1 us only absorbs float rounding of stamps given in seconds")
     stale_after_s: float = _p(
         2.0, "s", 0.01, 3600.0,
-        "a topic whose newest stamp lags the newest of all topics by more than this no longer holds the "
+        "a topic whose newest stamp lags the median topic's by more than this no longer holds the "
         "others back (its missing samples are counted)")
     backwards_jump_s: float = _p(
         1.0, "s", 0.0, 1e6,
         "a dropped stamp further than this behind its topic's newest is counted 'stamp_backwards' "
         "(clock reset, bag played in a loop) rather than 'late'")
+    reanchor_after_samples: int = _p(
+        200, "-", 1, 1 << 30,
+        "after this many 'stamp_backwards' samples in a row a topic's clock is re-anchored at them "
+        "(0.2 s at 1 kHz): a single stamp from the future cannot blind the topic; data already "
+        "released (a bag played again) is still dropped as 'late'")
     gap_s: float = _p(
         0.1, "s", 1e-4, 3600.0,
         "consecutive aligned samples further apart than this are a 'gap': no wear is integrated across "

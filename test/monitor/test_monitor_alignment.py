@@ -140,3 +140,36 @@ def test_bad_shapes_and_unknown_topics_raise_input_error(unit):
         al.add("torque", np.zeros(3), np.zeros(3))
     al.add("current", np.zeros(3), np.zeros(3))  # optional topic of the twin: ignored
     assert al.pending() == 0
+
+
+def test_a_stamp_from_the_future_does_not_blind_a_topic(unit):
+    al = _aligner(unit)
+    t = 100.0 + np.arange(2000) * 1e-3
+    glitch = t.copy()
+    glitch[500] = 1e6  # one velocity stamp 11 days ahead
+    al.add("angle", t, np.zeros_like(t))
+    al.add("velocity", glitch, np.zeros_like(t))
+    al.add("axial_force", t, np.zeros_like(t))
+    batch = al.release(final=True)
+    k = MonitorConfig().reanchor_after_samples
+    # the 'k' samples after the glitch are dropped until the topic is re-anchored, then all is normal
+    assert al.faults["velocity"] == {"stamp_backwards": k, "reanchored": 1, "missing": k + 1}
+    assert batch.t_ns.size == 2000 - 1 - k
+
+
+def test_a_bag_played_again_is_not_counted_twice(unit):
+    al = _aligner(unit)
+    t = 100.0 + np.arange(3000) * 1e-3
+    released = 0
+    for _ in range(2):  # the same 3 s twice, with process calls as a live node makes them
+        for a in range(0, t.size, 100):
+            for s in ("angle", "velocity", "axial_force"):
+                al.add(s, t[a:a + 100], np.zeros(100))
+            released += len(al.release())
+    released += len(al.release(final=True))
+    assert released == 3000
+    k = MonitorConfig().reanchor_after_samples
+    # second play: k backwards before re-anchoring, then 'late' below the release horizon (newest - 0.2 s)
+    # and 'duplicate' for the last 0.2 s, still waiting in the reorder window
+    assert al.faults["angle"] == {"stamp_backwards": k, "reanchored": 1, "late": 3000 - k - 201,
+                                  "duplicate": 201}
