@@ -52,7 +52,7 @@ from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 SIGNALS = ("angle", "velocity", "axial_force")
 IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the wear monitor
 FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_backwards", "late", "duplicate",
-               "out_of_order", "missing", "gap", "interrupted_cycle", "observation_rejected",
+               "out_of_order", "reanchored", "missing", "gap", "interrupted_cycle", "observation_rejected",
                "clearance_reset")
 _NO_STAMP = np.iinfo(np.int64).min
 NEGATIVE_FORCE_MULTIPLE = 10.0  # force below -10 x the contact threshold is a wiring / sign fault
