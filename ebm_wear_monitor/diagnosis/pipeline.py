@@ -27,7 +27,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording
-from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Nominal, ResidualModel
+from ebm_wear_monitor.diagnosis.residuals import Nominal, ResidualModel
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.params import UnitParams
 
@@ -77,7 +77,7 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         "verdict": ranking.verdict,
         "effect": top.effect.name if found else None,
         "ranking": [f.as_dict() for f in ranking.fits],
-        "where": where_table(sc, NOMINAL),
+        "where": where_table(sc, sc.base),
         "where_after": where_table(sc, top.augment) if found else None,
         "gap_before": ranking.gap_before,
         "gap_after": gap_after,
@@ -93,4 +93,5 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
                    "heldout": [int(c) for c in sc.split.heldout_cycles]},
         "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         "residual_method": RESIDUAL_METHOD,
+        "current_time_shift_s": sc.base.current_shift,
     }, sc, ranking)

@@ -7,6 +7,11 @@ range of demands even when the demands repeat with an even period (a plain
 even/odd split would then hold out only some force levels); a held-out cycle
 never contributes to any fit.  At least four cycles are needed (two held out).
 
+**Current timing.**  The sample timing of the current (:mod:`.residuals`) is
+fitted first on the calibration cycles with the nominal twin (the "before"
+model, :attr:`Scorer.base`) and refitted with every effect; being in both it
+is not counted in the penalty.
+
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
 residual R_F (:mod:`.residuals`), divided by their measured block noise
 (:func:`.noise.series_noise`; the torque noise from moving blocks, where the
@@ -64,6 +69,7 @@ range (speed, force) where the two fitted models differ most in noise units
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -123,6 +129,7 @@ class Scorer:
     split: Split
     sigma_torque: np.ndarray  # block noise of R_T per block [N m]
     sigma_force: np.ndarray  # block noise of R_F per block [N]
+    base: Augment = NOMINAL  # the nominal twin with the fitted current timing (the "before" model)
 
     @classmethod
     def build(cls, model: ResidualModel) -> Scorer:
@@ -139,7 +146,8 @@ class Scorer:
         c_t = max(_noise(r["torque"] / shape_t, b.run, b.moving), floor_t / np.median(shape_t))
         c_f = max(_noise(r["force"] / shape_f, b.run, np.ones(b.size, bool)), 1e-3 / np.median(shape_f))
         sigma_t = np.hypot(c_t * shape_t, model.unresolved_torque)
-        return cls(model, split_by_cycle(b.cycle, b.force), sigma_t, c_f * shape_f)
+        sc = cls(model, split_by_cycle(b.cycle, b.force), sigma_t, c_f * shape_f)
+        return dataclasses.replace(sc, base=fit_timing(sc))
 
     def z(self, aug: Augment, mask: np.ndarray) -> np.ndarray:
         """Normalised residuals of the masked blocks, torque rows then force rows."""
@@ -172,12 +180,14 @@ class Scorer:
     def misfit_p(self, aug: Augment) -> float:
         """p-value of "the nominal twin fits the held-out data within the noise where ``aug`` acts".
 
+        (The nominal twin with its fitted current timing, :attr:`base`.)
+
         Weighted mean square Q = sum(w z^2) / sum(w) with w = delta^2, delta the change of z
         that ``aug`` makes on each held-out gap row.  Under noise alone (z ~ N(0, 1) independent of
         the weights, which come from the calibration cycles) Q nu ~ chi^2(nu) with Satterthwaite's
         nu = (sum w)^2 / sum w^2.
         """
-        z = self.gap_rows(NOMINAL)
+        z = self.gap_rows(self.base)
         w = (z - self.gap_rows(aug)) ** 2
         if not np.any(w > 0.0):
             return 1.0
@@ -241,8 +251,40 @@ class EffectFit:
         }
 
 
-def fit_effect(sc: Scorer, effect: Effect) -> tuple[np.ndarray, np.ndarray]:
-    """Least-squares parameters and their cluster-robust standard errors on the calibration cycles."""
+def with_timing(effect: Effect, dt: float, start: float = 0.0) -> Effect:
+    """``effect`` plus the current-timing nuisance parameter tau in [-dt, dt] (:mod:`.residuals`)."""
+    k = effect.k
+
+    def to_augment(p: np.ndarray) -> Augment:
+        return dataclasses.replace(effect.to_augment(p[:k]), current_shift=float(p[k]))
+
+    lower = (effect.lower or (-np.inf,) * k) + (-dt,)
+    upper = (effect.upper or (np.inf,) * k) + (dt,)
+    return Effect(effect.name, effect.meaning, (*effect.params, "tau"), (*effect.units, "s"), to_augment,
+                  (*effect.scale, 0.5 * dt), tuple((*s0, start) for s0 in effect.starts), lower, upper)
+
+
+TIMING = Effect("current_timing", "sample timing of the current against the motion (nuisance)", (), (),
+                lambda p: NOMINAL, (), ((),))
+
+
+def fit_timing(sc: Scorer) -> Augment:
+    """The nominal twin with the current timing tau that fits the calibration cycles best."""
+    dt = sc.model.rec.dt
+    eff = with_timing(TIMING, dt)
+    eff = dataclasses.replace(eff, starts=((-0.5 * dt,), (0.0,), (0.5 * dt,)))
+    theta, _ = fit_effect(sc, eff, timing=False)
+    return eff.to_augment(theta)
+
+
+def fit_effect(sc: Scorer, effect: Effect, timing: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares parameters and their cluster-robust standard errors on the calibration cycles.
+
+    With ``timing`` the current timing is refitted with the effect's parameters (a nuisance
+    parameter, starting from the nominal fit's value); the returned arrays then end with it.
+    """
+    if timing:
+        effect = with_timing(effect, sc.model.rec.dt, sc.base.current_shift)
     mask = sc.split.calibration
     scale = np.asarray(effect.scale, dtype=float)
     lo = -np.inf * np.ones(effect.k) if effect.lower is None else np.asarray(effect.lower, dtype=float)
@@ -253,7 +295,8 @@ def fit_effect(sc: Scorer, effect: Effect) -> tuple[np.ndarray, np.ndarray]:
 
     best = None
     for start in effect.starts:
-        u0 = np.asarray(start, dtype=float) / scale
+        u0 = np.clip(np.asarray(start, dtype=float) / scale, lo / scale, hi / scale)
+        u0[np.abs(u0) < 1e-6] = 0.0  # round-off starts (e.g. -3e-13) stall the solver's first step
         res = optimize.least_squares(fun, u0, bounds=(lo / scale, hi / scale), method="trf",
                                      x_scale=1.0, diff_step=1e-3, max_nfev=60)
         if best is None or res.cost < best.cost:
@@ -272,12 +315,12 @@ def fit_effect(sc: Scorer, effect: Effect) -> tuple[np.ndarray, np.ndarray]:
 def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray) -> EffectFit:
     """Fit ``effect`` and compute its held-out gap, score, per-cycle improvements and test."""
     theta, se = fit_effect(sc, effect)
-    aug = effect.to_augment(theta)
+    aug = with_timing(effect, sc.model.rec.dt).to_augment(theta)
     s_after = sc.cycle_sse(aug)
     d = s_before - s_after
     score = float((d.sum() - 2.0 * effect.k) / s_before.sum())
-    fit = EffectFit(effect, theta, se, aug, sc.gap(aug), score, d, sc.z(aug, sc.split.heldout))
-    fit.p_value = improvement_p(sc.z(NOMINAL, sc.split.heldout), fit.z_heldout)
+    fit = EffectFit(effect, theta[:-1], se[:-1], aug, sc.gap(aug), score, d, sc.z(aug, sc.split.heldout))
+    fit.p_value = improvement_p(sc.z(sc.base, sc.split.heldout), fit.z_heldout)
     return fit
 
 
@@ -326,7 +369,7 @@ class Ranking:
 
 def nominal_sse(sc: Scorer) -> np.ndarray:
     """Held-out sum of z^2 per cycle of the nominal twin (the baseline of :func:`evaluate`)."""
-    return sc.cycle_sse(NOMINAL)
+    return sc.cycle_sse(sc.base)
 
 
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
@@ -347,7 +390,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and tied(0, j)]
     misfit = sc.misfit_p(top.augment)
     found = misfit < ALPHA and top.p_value < level and top.score > 0.0
-    return Ranking(fits, sc.gap(NOMINAL), misfit, "effect" if found else "none", level)
+    return Ranking(fits, sc.gap(sc.base), misfit, "effect" if found else "none", level)
 
 
 def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,

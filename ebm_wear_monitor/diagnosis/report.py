@@ -92,7 +92,7 @@ def _fig_overlay(sc: Scorer, ranking: Ranking, found: bool, path: Path) -> None:
         t = m.rec.t[idx] - m.rec.t[idx[0]]
         ax = axes[0, j]
         ax.plot(t, m.rec.current[idx], lw=0.6, color="0.5", label="recorded")
-        ax.plot(t, needed_current(sc, NOMINAL)[idx], lw=1.0, label="nominal twin needs")
+        ax.plot(t, needed_current(sc, sc.base)[idx], lw=1.0, label="nominal twin needs")
         if aug is not None:
             ax.plot(t, needed_current(sc, aug)[idx], lw=1.0, label=f"with {ranking.top.effect.name}")
         ax.set_title(f"held-out cycle {c}: current [A]")

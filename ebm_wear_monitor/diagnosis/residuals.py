@@ -46,6 +46,15 @@ force F = K_b max(0, x - x_ag); the block mean of recorded minus predicted force
 is R_F [N].  It sees clearance, stiffness and force-sensor errors, which the
 torque channel (evaluated at the *recorded* force) does not.
 
+**Current timing.**  A sampled current is ambiguous by up to a sample
+interval: a drive may log the current at the start of its control period while
+the torque acts over the period (its mean), and topics may be stamped with a
+skew.  A shift of half a sample turns the motor's current transients into a
+systematic, speed-correlated torque residual.  The shift tau (current read at
+t + tau) is therefore a nuisance parameter of every fit, the nominal twin's
+included (:mod:`.ranking`); it is a property of the data acquisition, not an
+effect of the unit.
+
 Unmodelled effects enter as an :class:`Augment` (corrections to the nominal
 parameters and functional forms); :mod:`.catalog` maps each effect's few
 parameters onto it.
@@ -119,6 +128,7 @@ class Augment:
     clearance: float = 0.0  # extra clearance dx_ag [m]
     force_bias: float = 0.0  # force-sensor offset b: F_meas = (1 + g) F + b [N]
     force_gain: float = 0.0  # force-sensor gain error g [-]
+    current_shift: float = 0.0  # timing of the current samples relative to the motion samples [s]
 
 
 NOMINAL = Augment()
@@ -261,8 +271,15 @@ class ResidualModel:
         F = self.true_force(aug)
         T_L = n.load_ratio * F
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
-        stuck = self.drive_torque - T_L - self.inertia_torque  # whatever holds the drive (module doc)
+        stuck = self.drive(aug) - T_L - self.inertia_torque  # whatever holds the drive (module doc)
         return np.where(self.moving, kinetic, stuck), T_L
+
+    def drive(self, aug: Augment) -> np.ndarray:
+        """Motor torque K_T I [N m] (004 eq. 7), the current read ``aug.current_shift`` seconds later."""
+        if aug.current_shift == 0.0:
+            return self.drive_torque
+        t = self.rec.t
+        return self.nominal.K_T * np.interp(t + aug.current_shift, t, self.rec.current)
 
     def force_model(self, aug: Augment) -> np.ndarray:
         """Axial force the model predicts from the recorded nut travel, as the sensor would read it [N]."""
@@ -272,7 +289,7 @@ class ResidualModel:
     def _net_integral(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
         """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample."""
         T_f, T_L = self.friction(aug)
-        net = self.drive_torque - T_L - T_f
+        net = self.drive(aug) - T_L - T_f
         t = self.rec.t
         return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(t)))), net
 

@@ -16,7 +16,7 @@ from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.twin import simulate_unit
 from ebm_wear_monitor.twin.paper004 import TABLE3, TABLE4, paper_unit
 
-OVERSAMPLE = 4
+OVERSAMPLE = 8
 
 
 @pytest.fixture(scope="module")
