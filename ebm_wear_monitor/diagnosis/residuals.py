@@ -73,6 +73,8 @@ from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.twin.dynamics import equivalent_inertia
+from ebm_wear_monitor.twin.friction import FrictionLaw, sliding_friction
 
 
 @dataclass(frozen=True)
@@ -96,12 +98,9 @@ class Nominal:
         a = unit.actuator
         if a is None:
             raise InputError(f"{unit.name}: the unit file has no 'actuator' block; the diagnosis needs it")
-        lead = unit.ball_screw.lead
-        J_me = (a.motor.inertia + a.gear_inertia + a.screw_inertia / a.gear_ratio**2
-                + (lead / (2.0 * math.pi * a.gear_ratio)) ** 2 * a.nut_mass)
         f = a.friction
-        return cls(J_me, a.motor.torque_constant, a.gear_ratio, lead, f.static, f.coulomb, f.viscous,
-                   f.load_coefficient, a.stiffness, a.clearance)
+        return cls(equivalent_inertia(unit), a.motor.torque_constant, a.gear_ratio, unit.ball_screw.lead,
+                   f.static, f.coulomb, f.viscous, f.load_coefficient, a.stiffness, a.clearance)
 
     @property
     def load_ratio(self) -> float:
@@ -139,14 +138,16 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     """Moving branch of 004 eq. 9 with the corrections of ``aug`` [N m].
 
     T_f = (T_fc + dT_fc + (G + dG) F) s + (B + dB) w_m + s T_L (a_0 + a_w |w_m|)
-    + s T_S exp(-(|w_m| / w_S)^2), s = sgn(w_m), T_L = l F / (2 pi i_g).
+    + s T_S exp(-(|w_m| / w_S)^2), s = sgn(w_m), T_L = l F / (2 pi i_g);
+    the eq. 9 part is the twin's :func:`ebm_wear_monitor.twin.friction.sliding_friction`.
     ``sign`` and ``speed`` default to sgn(w_m) and |w_m|; the residual model passes smoothed ones.
     """
     s = np.sign(w_m) if sign is None else sign
     speed = np.abs(w_m) if speed is None else speed
     T_L = n.load_ratio * F
-    T = (s * (n.T_fc + aug.dT_fc + (n.G + aug.dG) * F) + (n.B + aug.dB) * w_m
-         + s * T_L * (aug.eff_base + aug.eff_speed * speed))
+    law = FrictionLaw(static=n.T_fs + aug.dT_fs, coulomb=n.T_fc + aug.dT_fc, viscous=n.B + aug.dB,
+                      load_coefficient=n.G + aug.dG)
+    T = s * (sliding_friction(law, speed, F, T_L) + T_L * (aug.eff_base + aug.eff_speed * speed))
     if aug.stribeck_torque:
         T = T + s * aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2)
     return T
