@@ -49,10 +49,15 @@ def format_unit(entry: dict) -> str:
              f" (limit {mm(r['limit_m'])})",
              f"  remaining life: {life}",
              f"  input faults: {faults}"]
-    if entry.get("prognostics"):
-        p = entry["prognostics"]
-        lines.append(f"  vs ground truth: relative accuracy {p['relative_accuracy']}, alpha-lambda pass "
-                     f"{p['alpha_lambda_pass']}, prognostic horizon {p['prognostic_horizon_cycles']}")
+    p = entry.get("prognostics")
+    if p and p["predictions"]:
+        lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): cumulative "
+                     f"relative accuracy {p['cumulative_relative_accuracy']:.3g}, share in the alpha cone "
+                     f"{p['alpha_lambda_fraction']:.2f}, prognostic horizon "
+                     f"{p['prognostic_horizon_cycles']}, alpha-lambda pass {p['alpha_lambda_pass']}")
+    elif p:
+        lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): no prediction "
+                     "to judge yet")
     return "\n".join(lines)
 
 
