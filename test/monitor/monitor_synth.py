@@ -36,7 +36,7 @@ class Synth:
                 "axial_force": (self.t, self.force)}
 
 
-def _move(rotation: float, speed: float, ramp: int, dt: float) -> np.ndarray:
+def move_profile(rotation: float, speed: float, ramp: int, dt: float) -> np.ndarray:
     """Trapezoidal speed samples (both ends at 0) turning about ``rotation`` [rad] at peak ``speed``."""
     cruise = max(round(abs(rotation) / (speed * dt)) - ramp, 0)
     up = np.arange(1, ramp + 1) / ramp * speed
@@ -64,10 +64,10 @@ def synth_cycles(n: int, *, rate_hz: float = 1000.0, clearance=lambda k: 0.2e-3,
         total = 0.0
         for j in range(steps):
             target = theta_c + peak_force(k) * (j + 1) / steps / k_theta
-            mv = _move(target - total, speed, ramp, dt)
+            mv = move_profile(target - total, speed, ramp, dt)
             total += float(np.sum(mv)) * dt  # trapezoid rule from the 0 before to the 0 ending the move
             parts += [mv, np.zeros(round(hold_s * rate_hz))]
-        parts.append(_move(-total, speed, ramp, dt))  # rotations are multiples of speed*dt: back to 0
+        parts.append(move_profile(-total, speed, ramp, dt))  # rotations are multiples of speed*dt: back to 0
         cyc = np.concatenate(parts)
         vel.append(cyc)
         theta_c_per_sample.append(np.full(cyc.size, theta_c))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
-from monitor_synth import linear_rates, screw_growth, synth_cycles
+from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorCore
 
@@ -111,3 +111,17 @@ def test_force_sensor_offset_neither_merges_applications_nor_biases_the_clearanc
     for s, (t, v) in synth.signals().items():
         resumed.add(s, t, v)
     assert len(resumed.process(final=True)) == 6
+
+
+def test_move_without_contact_is_not_an_application(unit):
+    dt = 1e-3
+    out, back = move_profile(0.1, 10.0, 20, dt), move_profile(-0.1, 10.0, 20, dt)
+    w = np.concatenate([np.zeros(300), out, np.zeros(200), back, np.zeros(300)])
+    theta = np.concatenate([[0.0], np.cumsum((w[1:] + w[:-1]) / 2 * dt)])
+    t = np.arange(w.size) * dt
+    core = MonitorCore(unit, wear_rates=linear_rates(1e-9), clearance_growth=screw_growth)
+    for s, v in (("angle", theta), ("velocity", w), ("axial_force", np.zeros_like(w))):
+        core.add(s, t, v)
+    assert core.process(final=True) == []
+    assert core.snapshot().segments == {"incomplete": 1, "motion": 1}
+    assert core.snapshot().duty_cycles == 0
