@@ -201,7 +201,6 @@ class MonitorConfig:
             force_off=self.force_off_ratio * force_on,
             angle_resolution=2.0 * math.pi / (self.motor_encoder_counts * gear),
             meters_per_rad=lead / (2.0 * math.pi),
-            stiffness=act.stiffness if act is not None else None,
         )
 
 
@@ -215,7 +214,6 @@ class Thresholds:
     force_off: float  # force released [N]
     angle_resolution: float  # screw angle quantum q [rad]
     meters_per_rad: float  # nut travel per screw radian, lead / (2 pi) [m/rad]
-    stiffness: float | None  # clamp stiffness K_b (004 eq. 6) [N/m], None without actuator block
 
 
 def parameter_specs() -> list[dict[str, Any]]:

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -39,7 +39,7 @@ from ebm_wear_monitor.monitor.kalman import ClearanceFilter
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
 from ebm_wear_monitor.monitor.observation import observe_clearance
 from ebm_wear_monitor.monitor.persistence import save_state
-from ebm_wear_monitor.monitor.segmentation import PHASES, Segment, Segmenter
+from ebm_wear_monitor.monitor.segmentation import Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
 from ebm_wear_monitor.params import UnitParams
 
@@ -55,7 +55,7 @@ class CycleSummary:
     index: int  # 1-based application count since the unit was new
     start_ns: int  # start of clearance elimination [ns]
     end_ns: int  # back at rest after force release [ns]
-    phase_durations_s: tuple[float, float, float, float]  # in the order of PHASES [s]
+    phase_durations_s: tuple[float, float, float, float]  # in the order of segmentation.PHASES [s]
     peak_force_n: float  # [N]
     peak_speed_rad_s: float  # peak |omega| [rad/s]
     stroke_rad: float  # screw rotation from the rest position to peak force [rad] (NaN: rest unknown)
@@ -77,10 +77,6 @@ class CycleSummary:
     @property
     def end_s(self) -> float:
         return self.end_ns * 1e-9
-
-    @property
-    def phases(self) -> dict[str, float]:
-        return dict(zip(PHASES, self.phase_durations_s, strict=True))
 
 
 @dataclass(frozen=True)
@@ -114,8 +110,7 @@ class MonitorSnapshot:
     input_rates_hz: dict[str, float | None]  # accepted samples per second of stamp span
     segments: dict[str, int]  # closed segments per kind (cycle, incomplete, motion, interrupted, partial)
     last_stamp_ns: int | None  # end of the last closed segment: data up to here is integrated [ns]
-    pending_samples: int  # samples still waiting in the reorder window / undecided rest run
-    extra: dict[str, Any] = field(default_factory=dict)
+    pending_samples: int  # samples still waiting in the reorder window
 
     def to_json_dict(self) -> dict[str, Any]:
         """The per-unit entry of the replay JSON (interface.md section 4) without "unit"; NaN -> null."""
