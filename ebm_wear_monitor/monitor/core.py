@@ -6,14 +6,16 @@ Data flow (each step in its own module)::
       -> InputAligner.release              validate, de-duplicate, reorder, merge by stamp  (alignment.py)
       -> Segmenter.feed                    four phases of 000 Fig. 2, segments              (segmentation.py)
       -> per closed segment:
-           wear integral                   sum over moving samples of rate(F, omega) * dt, the physics
-                                           core's wear_model(unit, method).rates (000 eq. 20-23),
-                                           per phase, for screw raceway, nut raceway and ball
+           wear integral                   sum over moving samples of rate(F - b, omega) * dt (b: rest
+                                           level of the force sensor), the physics core's
+                                           wear_model(unit, method).rates (000 eq. 20-23), per phase,
+                                           for screw raceway, nut raceway and ball
            model clearance                 x_ag,model = x_ag,nominal + clearance_growth(wear)
            fatigue sums                    sum |F|^3 |d theta|, sum |d theta| (ISO 3408-5)
            per completed application:
              clearance observation         observation.py
-             Kalman step                   kalman.py: predict with the model growth, update with it
+             Kalman step                   kalman.py: predict with the model growth, update with the
+                                           observation behind an innovation gate
       -> CycleSummary per application; snapshot() for totals, remaining life (life.py), faults.
 
 Identical numbers for node and replay hold by construction: every decision
