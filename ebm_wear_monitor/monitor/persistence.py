@@ -4,8 +4,9 @@ Save (``save_state``), so that a kill at any instant leaves a loadable file:
 
 1. write the JSON (with a SHA-256 of its payload) to ``<name>.tmp-<pid>`` in the same directory,
    flush and ``fsync`` it;
-2. keep the current file as the backup ``<name>.bak`` (hard link, atomic ``rename`` over the old
-   backup), so the previous checkpoint survives whatever happens next;
+2. keep the current file as the backup ``<name>.bak`` (hard link, or a synced copy where the file
+   system has none; atomic ``rename`` over the old backup), so the previous checkpoint survives
+   whatever happens next;
 3. ``rename`` the temp file over ``<name>`` (atomic on POSIX) and ``fsync`` the directory so the
    rename itself is durable.
 
@@ -20,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import time
 from pathlib import Path
 from typing import Any
@@ -62,7 +64,12 @@ def save_state(path: str | Path, state: MonitorState) -> None:
     if path.exists():
         bak, bak_tmp = backup_path(path), path.with_name(f"{path.name}.bak-tmp-{os.getpid()}")
         bak_tmp.unlink(missing_ok=True)
-        os.link(path, bak_tmp)
+        try:
+            os.link(path, bak_tmp)
+        except OSError:  # file systems without hard links (FAT): copy, durably
+            shutil.copyfile(path, bak_tmp)
+            with open(bak_tmp, "rb") as fh:
+                os.fsync(fh.fileno())
         os.replace(bak_tmp, bak)
     os.replace(tmp, path)
     _fsync_dir(path.parent)
