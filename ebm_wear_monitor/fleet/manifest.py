@@ -4,8 +4,11 @@
 and SHA-256, and per unit the ordered list of its bag hashes, the parameter
 digest it ran with, its status and its result file. A unit whose bags and
 parameters are unchanged is skipped on the next run; a bag whose fingerprint
-is unchanged is not re-hashed. The manifest is rewritten atomically after
-every finished unit, so an interrupted run loses at most the units in flight.
+is unchanged is not re-hashed. The manifest is rewritten atomically every
+couple of seconds while units finish, after every resumed unit, at the end and
+when the run is interrupted (``fleet.pipeline``), so an interrupted run loses
+at most the units in flight (a hard kill: those of the last two seconds, which
+then simply run again).
 """
 
 from __future__ import annotations

@@ -31,6 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import time
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -51,6 +52,9 @@ from ebm_wear_monitor.replay.result import UnitReplay
 from ebm_wear_monitor.replay.run import judge, replay_unit, truth_by_namespace
 
 UNITS_DIR = "units"
+#: the manifest is rewritten at most this often while units finish (and at the end, or when
+#: interrupted): rewriting it after each of thousands of units would cost O(units^2) [s]
+MANIFEST_EVERY_S = 2.0
 
 
 @dataclass
@@ -227,20 +231,27 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
                                pure=False)
         pending[future] = (folder, unit_hashes)
     manifest.save()  # the hashes, even if the run is interrupted now
-    for future in as_completed(list(pending)):
-        folder, unit_hashes = pending.pop(future)
-        try:
-            outcome = future.result()
-        except Exception as exc:  # the worker died or the task could not run: report, retry next run
-            outcome = UnitOutcome(folder, error=f"task failed: {type(exc).__name__}: {exc}")
-            unit_hashes = None
-        manifest.units[folder] = {"hashes": unit_hashes, "params_digest": digest,
-                                  "status": "failed" if outcome.error else "ok",
-                                  "file": save_outcome(out, outcome)}
+    saved = time.monotonic()
+    try:
+        for future in as_completed(list(pending)):
+            folder, unit_hashes = pending.pop(future)
+            try:
+                outcome = future.result()
+            except Exception as exc:  # the worker died or the task could not run: report, retry next run
+                outcome = UnitOutcome(folder, error=f"task failed: {type(exc).__name__}: {exc}")
+                unit_hashes = None
+            manifest.units[folder] = {"hashes": unit_hashes, "params_digest": digest,
+                                      "status": "failed" if outcome.error else "ok",
+                                      "file": save_outcome(out, outcome)}
+            # a merged (resumed) result must never be merged twice: record it at once
+            if outcome.resumed or time.monotonic() - saved > MANIFEST_EVERY_S:
+                manifest.save()
+                saved = time.monotonic()
+            run.processed.append(folder)
+            if outcome.resumed:
+                run.resumed.append(folder)
+            if on_unit is not None:
+                on_unit(outcome)
+    finally:
         manifest.save()
-        run.processed.append(folder)
-        if outcome.resumed:
-            run.resumed.append(folder)
-        if on_unit is not None:
-            on_unit(outcome)
     return run
