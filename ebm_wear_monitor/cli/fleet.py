@@ -29,6 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--params", metavar="P", default=None,
                         help="unit parameter YAML, or a reference name (default: DIR/params.yaml if "
                              "present, as --generate writes it, else embu_000)")
+    parser.add_argument("--config", metavar="FILE",
+                        help="monitor-core thresholds: the node's ROS parameter file or a flat mapping")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="existing Dask scheduler (tcp://host:port); default: a local cluster")
     parser.add_argument("--workers", type=int, default=None, metavar="N",
@@ -77,11 +79,13 @@ def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
     from ebm_wear_monitor.fleet.tables import SUMMARY_COLUMNS, assemble, write_tables
     from ebm_wear_monitor.params import load_unit
+    from ebm_wear_monitor.replay.config import load_monitor_config
     from ebm_wear_monitor.replay.output import write_json
 
     _check(args)
     fleet_params = Path(args.dir) / "params.yaml"
     params = load_unit(args.params if args.params or not fleet_params.is_file() else fleet_params)
+    config = load_monitor_config(args.config) if args.config else None
     out = Path(args.out)
     with dask_client(args.scheduler, args.workers) as client:
         if args.generate is not None:
@@ -90,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
             params, bags = generate_fleet(args.dir, units, params, client)
             print(f"generated {len(units)} units, {len(bags)} bags in {args.dir} (unit file: {fleet_params})")
         with tqdm(unit="unit", desc="fleet", disable=args.no_progress or None, file=sys.stderr) as bar:
-            fleet = run_fleet(client, args.dir, out, params, on_unit=lambda _: bar.update())
+            fleet = run_fleet(client, args.dir, out, params, config=config,
+                              on_unit=lambda _: bar.update())
     tables = assemble(out, list(fleet.units), Manifest.load(out))
     write_tables(out, tables)
     write_fleet_report(out / "report", tables, f"ebm_wear_monitor fleet: {args.dir}")

@@ -21,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("bags", nargs="+", metavar="BAG", help="rosbag2 bag directories (sqlite3 or mcap)")
     parser.add_argument("--params", metavar="P", default=None,
                         help="unit parameter YAML, or a reference name (default: embu_000)")
+    parser.add_argument("--config", metavar="FILE",
+                        help="monitor-core thresholds: the node's ROS parameter file (e.g. "
+                             "config/wear_monitor.yaml) or a flat YAML mapping (default: the defaults)")
     parser.add_argument("--json", metavar="OUT", help="write the replay JSON (interface.md section 4) here")
     parser.add_argument("--report", metavar="DIR", help="write an HTML report with PNG plots into DIR")
     parser.add_argument("--no-progress", action="store_true", help="no progress bars on stderr")
@@ -67,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ebm_wear_monitor.bagio import bag_message_count
     from ebm_wear_monitor.params import load_unit
+    from ebm_wear_monitor.replay.config import load_monitor_config
     from ebm_wear_monitor.replay.output import write_json
     from ebm_wear_monitor.replay.report import write_replay_report
     from ebm_wear_monitor.replay.run import replay_bags
@@ -75,11 +79,13 @@ def run(args: argparse.Namespace) -> int:
     if args.report is not None and Path(args.report).is_file():
         raise InputError(f"--report {args.report}: is a file, expected a directory")
     params = load_unit(args.params)
+    config = load_monitor_config(args.config) if args.config else None
     total = bag_message_count(args.bags)
     quiet = args.no_progress
     with tqdm(total=total, unit="msg", desc="read", disable=quiet or None, file=sys.stderr) as read_bar, \
             tqdm(total=total, unit="msg", desc="monitor", disable=quiet or None, file=sys.stderr) as bar:
-        result = replay_bags(args.bags, params, read_progress=read_bar.update, progress=bar.update)
+        result = replay_bags(args.bags, params, config=config, read_progress=read_bar.update,
+                             progress=bar.update)
     for unit in result.units:
         print(format_unit(unit.to_json_dict()))
     for where, why in result.rejected.items():

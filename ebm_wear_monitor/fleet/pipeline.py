@@ -44,7 +44,7 @@ from ebm_wear_monitor import __version__
 from ebm_wear_monitor.bagio import Recording, read_bags
 from ebm_wear_monitor.fleet.discover import BagFile, content_hash, discover
 from ebm_wear_monitor.fleet.manifest import Manifest
-from ebm_wear_monitor.monitor import MonitorState
+from ebm_wear_monitor.monitor import MonitorConfig, MonitorState
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.replay.output import atomic_write, write_json
 from ebm_wear_monitor.replay.report import slug
@@ -88,8 +88,8 @@ def _continues(recording: Recording, states: dict[str, dict]) -> bool:
     return True
 
 
-def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams,
-                 previous: dict | None = None) -> UnitOutcome:
+def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams, *,
+                 previous: dict | None = None, config: MonitorConfig | None = None) -> UnitOutcome:
     """Read one unit's bags (time order) and run the monitor core over them; never raises.
 
     ``previous``: ``{"bags": n, "states": {namespace: MonitorState dict}}`` when the first ``n``
@@ -114,7 +114,7 @@ def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams
         truths = truth_by_namespace(recording)
         for ns, data in recording.units.items():
             state = MonitorState.from_dict(states[ns]) if ns in states else None
-            result = replay_unit(data, params, truths.get(ns), state=state)
+            result = replay_unit(data, params, truths.get(ns), config=config, state=state)
             result.unit = entry_name(folder, ns, len(recording.units))
             result.bags = [Path(b).relative_to(root).as_posix() for b in data.bags]
             outcome.entries.append(result)
@@ -203,9 +203,12 @@ def _previous(manifest: Manifest, folder: str, hashes: list[str], digest: str, o
     return {"bags": len(entry["hashes"]), "states": states} if states else None
 
 
-def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: UnitParams,
-              on_unit: Callable[[UnitOutcome], object] | None = None) -> FleetRun:
+def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: UnitParams, *,
+              config: MonitorConfig | None = None, on_unit: Callable[[UnitOutcome], object] | None = None
+              ) -> FleetRun:
     """Process every unit under ``root`` not already done into ``out`` on the Dask ``client``.
+
+    ``config``: monitor-core thresholds (defaults when None); part of what makes a unit "done".
 
     ``on_unit(outcome)`` is called as each unit finishes (progress bars). The
     fleet tables are assembled afterwards with :func:`fleet.tables.assemble`.
@@ -215,7 +218,9 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
     root, out = Path(root).resolve(), Path(out)
     units = discover(root)
     manifest = Manifest.load(out)
-    digest = f"{params.digest()}/{__version__}"
+    config = config or MonitorConfig()
+    config_digest = hashlib.sha256(json.dumps(config.to_dict(), sort_keys=True).encode()).hexdigest()[:16]
+    digest = f"{params.digest()}/{config_digest}/{__version__}"
     hashes = _hashes(client, root, units, manifest)
     run = FleetRun(units)
     pending = {}
@@ -227,8 +232,8 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
             run.skipped.append(folder)
             continue
         future = client.submit(process_unit, str(root), folder, [b.relpath for b in units[folder]],
-                               params_future, _previous(manifest, folder, unit_hashes, digest, out),
-                               pure=False)
+                               params_future, previous=_previous(manifest, folder, unit_hashes, digest, out),
+                               config=config, pure=False)
         pending[future] = (folder, unit_hashes)
     manifest.save()  # the hashes, even if the run is interrupted now
     saved = time.monotonic()
