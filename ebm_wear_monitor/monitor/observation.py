@@ -8,28 +8,32 @@ the release rest position, before the pads touch and force builds. So
 
 with ``l`` the lead. ``theta_rest`` is the median screw angle over the last
 rest samples before the application. ``theta_onset`` is the angle at which the
-force would be zero on the clamp's load line: force generation is a spring
-(004 eq. 5-6, F = K_b (x - x_ag)), so over the first part of the rise
-(force between the contact threshold and ``max(4 force_on, 0.3 F_peak)``) the
-angle is regressed on the force, theta = theta_onset + c F, and the intercept
-is taken. Regressing angle on force (not force on angle) keeps the intercept
-unbiased by force noise to first order, and the fit uses the measured
-compliance c, so the unit file's K_b is not needed.
+force (above its rest level) would be zero on the clamp's load line: force
+generation is a spring (004 eq. 5-6, F = K_b (x - x_ag)), so over the first
+part of the rise (force between the contact threshold and
+``max(4 force_on, 0.5 F_peak)``) the angle is regressed on the force,
+theta = theta_onset + c F, and the intercept is taken. Regressing angle on
+force (not force on angle) keeps the intercept unbiased by force noise to first
+order, and the fit uses the measured compliance c, so the unit file's K_b is
+not needed. Two samples in the band suffice (100 Hz recordings).
 
-Error budget (1 sigma, all independent), the measurement noise R of the filter:
+Error budget (1 sigma, independent terms), the measurement noise R of the filter:
 
-* angle quantisation: each of theta_rest and theta_onset is off by up to half a
-  count q = 2 pi / (counts * gear_ratio), uniform: variance (l q / 2 pi)^2 / 6
-  for the difference (median and regression do not average quantisation away
-  when the angle is constant, so no 1/n);
-* force noise sigma_F mapped through the fitted axial compliance
-  c l / (2 pi) [m/N], averaged over the n fitted samples: (sigma_F c l / 2 pi)^2 / n;
+* rest angle: quantisation of the encoder, q = 2 pi / (counts * gear_ratio),
+  uniform: variance q^2 / 12 (a median of a constant quantised angle does not
+  average it away);
+* onset angle: the textbook variance of a regression intercept,
+  s^2 (1 / n + mean(F)^2 / S_FF), with s^2 the scatter of the angle about the
+  line: the residual variance when n > 2, but never less than the sensors
+  explain, q^2 / 12 + (sigma_F c)^2 (force noise through the fitted compliance);
 * repeatability of the true travel (temperature, pad seating):
-  ``clearance_repeatability_m`` squared.
+  ``clearance_repeatability_m`` squared;
 
-With the reference EMBU and a 4096-count motor encoder, q = 3.04e-4 rad, the
-quantisation term is 0.098 um, the force term 0.5 um / sqrt(n) at 20 N, and the
-1 um repeatability dominates: sigma ~ 1 um per application.
+the two angle terms times (l / 2 pi)^2. With the reference EMBU (K_b = 4.16e7
+N/m), a 4096-count motor encoder and 50 N force noise, one force sample maps to
+1.2 um; the band's extrapolation to F = 0 multiplies that by ~sqrt(5 / n):
+0.4 um at 1 kHz (n ~ 50), 1.6 um at 100 Hz (n ~ 3); with the 1 um repeatability
+sigma is 1.1 um and 1.9 um.
 """
 
 from __future__ import annotations
@@ -41,19 +45,19 @@ import numpy as np
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 from ebm_wear_monitor.monitor.segmentation import FG, Segment
 
-_MIN_FIT_SAMPLES = 3
+_MIN_FIT_SAMPLES = 2
 
 
 def onset_band(force_on: float, peak_force: float) -> tuple[float, float]:
-    """Force band [N] of the onset fit: from the contact threshold to max(4 force_on, 0.3 peak)."""
-    return force_on, max(4.0 * force_on, 0.3 * peak_force)
+    """Force band [N] of the onset fit: from the contact threshold to max(4 force_on, 0.5 peak)."""
+    return force_on, max(4.0 * force_on, 0.5 * peak_force)
 
 
 def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig) -> tuple[float, float]:
     """(x_ag observed [m], its 1-sigma [m]) for a completed cycle; (NaN, NaN) when not observable.
 
     Not observable: not a ``cycle``, no known rest angle (after a gap or at start), fewer
-    than 3 samples in the first force rise, a non-positive fitted compliance, or x <= 0.
+    than 2 samples in the first force rise, a non-positive fitted compliance, or x <= 0.
     """
     nan = (math.nan, math.nan)
     if seg.kind != "cycle" or not math.isfinite(seg.rest_angle):
@@ -82,11 +86,10 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig) -> tu
     x_obs = (theta_onset - seg.rest_angle) * th.meters_per_rad
     if x_obs <= 0.0:
         return nan
-    return x_obs, math.sqrt(observation_variance(th, config, compliance, n))
-
-
-def observation_variance(th: Thresholds, config: MonitorConfig, compliance: float, n_fit: int) -> float:
-    """Measurement noise R [m^2] of eq. (1): quantisation, force noise via the compliance, repeatability."""
-    quant = (th.meters_per_rad * th.angle_resolution) ** 2 / 6.0
-    force = (config.force_noise_n * compliance * th.meters_per_rad) ** 2 / max(n_fit, 1)
-    return quant + force + config.clearance_repeatability_m ** 2
+    residual = a - (theta_onset + compliance * f)
+    scatter = float(np.sum(residual ** 2)) / (n - 2) if n > 2 else 0.0
+    sensors = th.angle_resolution ** 2 / 12.0 + (config.force_noise_n * compliance) ** 2
+    var_onset = max(scatter, sensors) * (1.0 / n + f_mean ** 2 / sxx)
+    var_rest = th.angle_resolution ** 2 / 12.0
+    variance = (var_onset + var_rest) * th.meters_per_rad ** 2 + config.clearance_repeatability_m ** 2
+    return x_obs, math.sqrt(variance)

@@ -137,16 +137,20 @@ def test_wear_is_the_physics_integral_over_moving_samples(unit):
     assert snap.clearance_model_m == pytest.approx(unit.actuator.clearance + growth, rel=1e-12)
 
 
-def test_twin_recording_end_to_end(unit):
+@pytest.mark.parametrize("rate_hz", [1000.0, 100.0])
+def test_twin_recording_end_to_end(unit, rate_hz):
     from ebm_wear_monitor.twin import simulate_unit
 
-    sim = simulate_unit(unit, 10, seed=3)
+    sim = simulate_unit(unit, 10, seed=3, rate_hz=rate_hz)
     core = MonitorCore(unit)
     for s in ("angle", "velocity", "axial_force", "current"):
         core.add(s, sim.t, getattr(sim, s))
     cycles = core.process(final=True)
     assert len(cycles) == 10
-    for c, x in zip(cycles, sim.truth["clearance_m"], strict=True):
+    observed = [c for c in cycles if math.isfinite(c.clearance_observed_m)]
+    assert len(observed) >= 8
+    for c in observed:
+        x = sim.truth["clearance_m"][c.index - 1]
         assert abs(c.clearance_observed_m - x) < 3 * c.clearance_observed_std_m
     snap = core.snapshot()
     for name in ("screw", "nut", "ball"):  # measured (noisy) signals vs the twin's true ones

@@ -12,7 +12,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
-from ebm_wear_monitor.monitor import MonitorCore
+from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore
 
 
 def _run(unit, synth, **kw):
@@ -41,16 +41,22 @@ def test_phase_boundaries_recovered_under_noise(unit, rate_hz):
     assert core.snapshot().segments == {"cycle": 8}
 
 
-def test_clearance_observation_within_its_error_budget(unit):
-    truth = [0.2e-3 + 7e-6 * k for k in range(12)]
-    synth = synth_cycles(12, noise=True, seed=5, clearance=lambda k: truth[k])
-    _, cycles = _run(unit, synth)
+@pytest.mark.parametrize("rate_hz", [1000.0, 100.0])
+def test_clearance_observation_is_unbiased_and_its_error_budget_calibrated(unit, rate_hz):
+    truth = [0.2e-3 + 3e-6 * (k % 5) for k in range(60)]
+    synth = synth_cycles(60, rate_hz=rate_hz, noise=True, seed=21, clearance=lambda k: truth[k],
+                         peak_force=lambda k: 8e3 + 1e3 * (k % 9))
+    # the synthetic data have no thermal scatter: leave it out of the budget to test the sensor terms
+    _, cycles = _run(unit, synth, config=MonitorConfig(clearance_repeatability_m=0.0))
+    obs = np.array([c.clearance_observed_m for c in cycles])
+    z = (obs - np.array(truth)) / np.array([c.clearance_observed_std_m for c in cycles])
+    assert np.isfinite(obs).mean() >= (0.99 if rate_hz > 500 else 0.7)
+    assert abs(np.nanmean(z)) < 0.5
+    assert 0.6 < np.nanstd(z) < 1.5
+    m = unit.ball_screw.lead / (2 * math.pi)
+    k_theta = unit.actuator.stiffness * m
     for c, x in zip(cycles, truth, strict=True):
-        # the budget includes 1 um of thermal repeatability the synthetic data do not have: 3 sigma is loose
-        assert abs(c.clearance_observed_m - x) < 3.0 * c.clearance_observed_std_m
-        assert c.clearance_observed_std_m == pytest.approx(1.0e-6, rel=0.1)
-        assert c.stroke_rad == pytest.approx(x / (unit.ball_screw.lead / (2 * math.pi)) + 20e3 / (
-            unit.actuator.stiffness * unit.ball_screw.lead / (2 * math.pi)), abs=0.01)
+        assert c.stroke_rad == pytest.approx(x / m + c.peak_force_n / k_theta, abs=0.02)
 
 
 def test_stepped_demand_is_one_application(unit):
