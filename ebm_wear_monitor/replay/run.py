@@ -12,7 +12,8 @@ core's snapshot gives the remaining-life distribution and cumulative wear for
 the per-application history (as the node publishes them after each
 processing tick). A brake application lasts longer than a window, so no
 window completes two; if one ever did, only its last application gets the
-snapshot's values and the others NaN, never copied numbers.
+snapshot's values and the others NaN, never copied numbers. ``motor/current`` is
+not fed: the wear monitor does not use it (interface.md section 2).
 """
 
 from __future__ import annotations

@@ -39,12 +39,20 @@ def _wrong_type_bag(path) -> None:
 
 
 @pytest.fixture(scope="module")
-def generated(tmp_path_factory):
+def client():
+    with dask_client(None, n_workers=2) as c:  # LocalCluster, 2 processes, 127.0.0.1
+        assert len(c.scheduler_info()["workers"]) == 2
+        assert c.scheduler.address.startswith("tcp://127.0.0.1:")
+        yield c
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory, client):
     """20 synthetic units (2 bags of 3 applications each, 100 Hz), a truncated extra bag in one unit
     and a unit whose only bag carries the wrong message type; and the fleet's unit parameters."""
     root = tmp_path_factory.mktemp("fleet") / "fleet"
     units = scenarios(N_UNITS, seed=11, cycles_per_bag=3, bags_per_unit=2, rate_hz=100.0)
-    params, _ = generate_fleet(root, units, load_unit())
+    params, _ = generate_fleet(root, units, load_unit(), client)
     good = root / TRUNCATED_UNIT / "2026-11-20.bag"
     bad = root / TRUNCATED_UNIT / "2026-11-30.bag"
     shutil.copytree(good, bad)
@@ -63,14 +71,6 @@ def fleet_dir(generated):
 def params(generated):
     assert generated[1].digest() == load_unit(generated[0] / "params.yaml").digest()  # the fleet unit file
     return generated[1]
-
-
-@pytest.fixture(scope="module")
-def client():
-    with dask_client(None, n_workers=2) as c:  # LocalCluster, 2 processes, 127.0.0.1
-        assert len(c.scheduler_info()["workers"]) == 2
-        assert c.scheduler.address.startswith("tcp://127.0.0.1:")
-        yield c
 
 
 @pytest.fixture(scope="module")
