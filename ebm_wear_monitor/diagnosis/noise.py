@@ -11,9 +11,8 @@ level has to be configured:
   ignores them: sigma = 1.4826 MAD(d) / sqrt(6).
 * **Block residual series** (:func:`series_noise`). Residuals averaged over
   short blocks (see :mod:`.residuals`) are smooth in their model-error part and
-  white in their noise part. Differences at lag 2 (blocks that share no
-  end-point sample) cancel the smooth part; for independent noise their
-  variance is 2 sigma^2, hence sigma = 1.4826 MAD(r_{b+2} - r_b) / sqrt(2).
+  white in their noise part. A second difference at lag 2 (blocks that share no
+  end-point sample) cancels the smooth part up to its curvature; see there.
 """
 
 from __future__ import annotations
@@ -40,16 +39,21 @@ def signal_noise(x: np.ndarray) -> float:
 
 
 def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
-    """Noise standard deviation of a block-residual series from lag-2 differences within groups.
+    """Noise standard deviation of a block-residual series from lag-2 curvature within groups.
 
-    ``group`` (same length) labels contiguous segments; differences never cross a
-    segment boundary.  Returns 0 when fewer than 3 blocks are available.
+    d_b = r_b - (r_{b-2} + r_{b+2}) / 2 cancels any part of the residual that is
+    linear over five blocks (a model error that grows with force during force
+    generation, say) and, for independent noise, has variance (1 + 1/4 + 1/4)
+    sigma^2; hence sigma = 1.4826 MAD(d) / sqrt(1.5).  Blocks two apart share no
+    end-point sample.  ``group`` (same length) labels contiguous segments;
+    differences never cross a segment boundary.  Returns 0 when fewer than 5
+    blocks are available.
     """
     r = np.asarray(r, dtype=float)
-    if r.size < 3:
+    if r.size < 5:
         return 0.0
-    d = r[2:] - r[:-2]
+    d = r[2:-2] - 0.5 * (r[:-4] + r[4:])
     if group is not None:
         group = np.asarray(group)
-        d = d[group[2:] == group[:-2]]
-    return mad_sigma(d) / np.sqrt(2.0)
+        d = d[(group[:-4] == group[2:-2]) & (group[4:] == group[2:-2])]
+    return mad_sigma(d) / np.sqrt(1.5)

@@ -13,9 +13,10 @@ model, :attr:`Scorer.base`) and refitted with every effect; being in both it
 is not counted in the penalty.
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
-residual R_F (:mod:`.residuals`), divided by their measured block noise
-(:func:`.noise.series_noise`; the torque noise from moving blocks, where the
-dead-zone of the stick branch does not hide it): z = R / sigma.
+residual R_F (:mod:`.residuals`), divided by their block noise: z = R / sigma.
+sigma is propagated from the sensor noise measured on each signal
+(:func:`block_noise`), scaled up if the residual scatters more than that in its
+quietest phase (coloured noise), plus the unresolved-current term.
 
 **Fit.**  An effect's parameters theta minimise sum z(theta)^2 over the
 calibration blocks (bounded Gauss-Newton, ``scipy.optimize.least_squares``;
@@ -132,21 +133,28 @@ class Scorer:
     base: Augment = NOMINAL  # the nominal twin with the fitted current timing (the "before" model)
 
     @classmethod
-    def build(cls, model: ResidualModel) -> Scorer:
-        """Measure the block noise (module docstring, :func:`block_noise_shape`).
+    def build(cls, model: ResidualModel, reference: Augment = NOMINAL) -> Scorer:
+        """Measure the block noise (module docstring, :func:`block_noise`).
 
-        The torque noise adds, in quadrature, the uncertainty of the current integral
+        The block noise is propagated from the sensor noise (:func:`block_noise`) and scaled up
+        when the residual of ``reference`` (the nominal twin, or in a second pass the best-ranked
+        effect, whose residual carries less model error) scatters more than that in its quietest
+        phase (:func:`_quietest_phase_noise`; coloured sensor noise).  The torque noise adds,
+        in quadrature, the uncertainty of the current integral
         where the sampling does not resolve the electrical transient
         (:meth:`.residuals.ResidualModel._unresolved_torque`).
         """
         b = model.blocks
-        r = model.residuals(NOMINAL)
-        shape_t, shape_f = block_noise_shape(model)
-        floor_t = 1e-6 * model.nominal.T_fc + 1e-12  # resolution floors for noise-free data
-        c_t = max(_noise(r["torque"] / shape_t, b.run, b.moving), floor_t / np.median(shape_t))
-        c_f = max(_noise(r["force"] / shape_f, b.run, np.ones(b.size, bool)), 1e-3 / np.median(shape_f))
-        sigma_t = np.hypot(c_t * shape_t, model.unresolved_torque)
-        sc = cls(model, split_by_cycle(b.cycle, b.force), sigma_t, c_f * shape_f)
+        r = model.residuals(reference)
+        s_t, s_f = block_noise(model)
+        # resolution floors keep noise-free data finite
+        s_t = np.maximum(s_t, 1e-6 * model.nominal.T_fc + 1e-12)
+        s_f = np.maximum(s_f, 1e-3)
+        # the sensor estimates assume white noise; coloured noise shows as a larger residual scatter
+        c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
+        c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
+        sigma_t = np.hypot(c_t * s_t, model.unresolved_torque)
+        sc = cls(model, split_by_cycle(b.cycle, b.force), sigma_t, c_f * s_f)
         return dataclasses.replace(sc, base=fit_timing(sc))
 
     def z(self, aug: Augment, mask: np.ndarray) -> np.ndarray:
@@ -196,16 +204,14 @@ class Scorer:
         return float(stats.chi2.sf(q * nu, nu))
 
 
-def block_noise_shape(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
-    """Relative noise of each block's R_T and R_F, propagated from the measured sensor noise.
+def block_noise(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
+    """Noise of each block's R_T [N m] and R_F [N], propagated from the measured sensor noise.
 
     A block of n samples over dt_b seconds: R_T carries the end-point speed noise
     J_me i_g sigma_v sqrt(2) / dt_b and the averaged current and force noise
     (K_T sigma_I)^2 / n + ((l / (2 pi i_g) + G) sigma_F)^2 / n; R_F carries
-    (sigma_F^2 + [in contact] (K_b l sigma_theta / (2 pi))^2) / n.  Only the shape
-    matters: the overall scale of each channel is measured on the residuals
-    themselves (:func:`.noise.series_noise`), so coloured or mis-modelled sensor
-    noise cannot bias it.
+    (sigma_F^2 + [in contact] (K_b l sigma_theta / (2 pi))^2) / n, with the
+    sensor noise sigma of each signal from :func:`.noise.signal_noise`.
     """
     rec, n, b = model.rec, model.nominal, model.blocks
     sv, si, sf, sa = (signal_noise(x) for x in (rec.velocity, rec.current, rec.axial_force, rec.angle))
@@ -215,15 +221,21 @@ def block_noise_shape(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
         (n.K_T * si) ** 2 + ((n.load_ratio + n.G) * sf) ** 2) / ns
     contact = b.force > model.seg.force_on
     var_f = (sf**2 + contact * (n.K_b * n.lead * sa / (2.0 * np.pi)) ** 2) / ns
-    # noise-free channels: fall back to plain averaging, 1 / sqrt(n)
-    shape_t = np.sqrt(var_t) if np.all(var_t > 0) else 1.0 / np.sqrt(ns)
-    shape_f = np.sqrt(var_f) if np.all(var_f > 0) else 1.0 / np.sqrt(ns)
-    return shape_t / np.median(shape_t), shape_f / np.median(shape_f)
+    return np.sqrt(var_t), np.sqrt(var_f)
 
 
-def _noise(r: np.ndarray, run: np.ndarray, mask: np.ndarray) -> float:
-    """Block noise of ``r`` over the masked blocks (0 when fewer than 3)."""
-    return series_noise(r[mask], run[mask]) if mask.sum() >= 3 else 0.0
+def _quietest_phase_noise(r: np.ndarray, model: ResidualModel, rows: np.ndarray) -> float:
+    """Residual-based noise scale: the smallest :func:`.noise.series_noise` of r over the phases.
+
+    Each phase with enough blocks gives an estimate; model error that the lag-2
+    curvature does not cancel (transients, a misfit that varies within a run) can
+    only inflate it, so the quietest phase is the closest to the noise.
+    """
+    b = model.blocks
+    est = [series_noise(r[k], b.run[k]) for ph in np.unique(b.phase)
+           if (k := rows & (b.phase == ph)).sum() >= 12]
+    est = [e for e in est if e > 0.0]
+    return min(est) if est else 0.0
 
 
 @dataclass

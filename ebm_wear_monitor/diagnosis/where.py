@@ -7,8 +7,9 @@ divided by its measured noise so that signals and phases compare:
   current (R_T / K_T) and as the re-anchored speed error (R_T dt / J_me): both
   are normalised by the torque channel's block noise, so they carry the same
   z-score (one balance, two units);
-* ``angle`` (re-anchored angle error at the block end) by its own block noise
-  (:func:`.noise.series_noise`, lag-2 differences over moving blocks);
+* ``angle`` (re-anchored angle error at the block end) by the angle error the
+  torque noise makes over the block, sigma_T dt^2 / (2 J_me i_g) (a constant
+  torque error R over a block of length dt moves the screw by R dt^2 / (2 J_me i_g));
 * ``axial_force`` by the force channel's block noise.
 
 The table entry is the RMS z-score of the blocks of that phase (1 = noise);
@@ -21,27 +22,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.noise import series_noise
 from ebm_wear_monitor.diagnosis.phases import PHASES
 from ebm_wear_monitor.diagnosis.ranking import Scorer
 from ebm_wear_monitor.diagnosis.recording import SIGNALS
-from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Augment
+from ebm_wear_monitor.diagnosis.residuals import Augment
 
 
 def _rms(z: np.ndarray) -> float | None:
     return float(np.sqrt(np.mean(z * z))) if z.size else None
 
 
-def signal_z(sc: Scorer, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
+def signal_z(sc: Scorer, aug: Augment) -> dict[str, np.ndarray]:
     """Noise-normalised per-block residual of each signal (module docstring)."""
-    b = sc.model.blocks
+    b, n = sc.model.blocks, sc.model.nominal
     res = sc.model.signal_residuals(aug)
-    ang_scale = series_noise(sc.model.signal_residuals(NOMINAL)["angle"][b.moving], b.run[b.moving])
+    dt = sc.model.rec.t[b.stop] - sc.model.rec.t[b.start]
     return {
-        "current": -res["current"] * sc.model.nominal.K_T / sc.sigma_torque,
-        "velocity": res["velocity"] * sc.model.nominal.J_me * sc.model.nominal.i_g
-        / (sc.sigma_torque * (sc.model.rec.t[b.stop] - sc.model.rec.t[b.start])),
-        "angle": res["angle"] / max(ang_scale, 1e-12),
+        "current": -res["current"] * n.K_T / sc.sigma_torque,
+        "velocity": res["velocity"] * n.J_me * n.i_g / (sc.sigma_torque * dt),
+        "angle": res["angle"] * 2.0 * n.J_me * n.i_g / (sc.sigma_torque * dt * dt),
         "axial_force": -res["axial_force"] / sc.sigma_force,
     }
 
@@ -56,7 +55,7 @@ def _bins(values: np.ndarray, z: np.ndarray, unit: str) -> list[dict]:
              "blocks": int((idx == i).sum())} for i in range(edges.size - 1)]
 
 
-def where_table(sc: Scorer, aug: Augment = NOMINAL) -> dict:
+def where_table(sc: Scorer, aug: Augment) -> dict:
     """The ``where`` object of the diagnosis JSON (interface.md section 4, extended)."""
     b = sc.model.blocks
     z = signal_z(sc, aug)
