@@ -20,7 +20,8 @@ Command line (``python -m ebm_wear_monitor.ros.player BAG... [--speed S] ...``):
     --namespace NS     publish the bag's (only) unit under NS instead of its own namespace
     --speed S          multiple of real time; 0 = as fast as possible (default 1)
     --reliable         reliable, keep-all QoS (default: best effort, the sensor-data profile)
-    --subscribers N    wait until every input topic has N subscribers before starting (default 1)
+    --signals LIST     publish only these signals (comma-separated, e.g. angle,velocity,axial_force)
+    --subscribers N    wait until every published topic has N subscribers before starting (default 1)
 """
 
 from __future__ import annotations
@@ -147,6 +148,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--namespace", help="publish the bag's only unit under this namespace")
     p.add_argument("--speed", type=float, default=1.0, help="multiple of real time; 0 = as fast as possible")
     p.add_argument("--reliable", action="store_true", help="reliable keep-all QoS instead of best effort")
+    p.add_argument("--signals", help="comma-separated signals to publish (default: all in the bag)")
     p.add_argument("--subscribers", type=int, default=1, help="subscribers to wait for on every topic")
     p.add_argument("--wait-timeout", type=float, default=30.0, help="seconds to wait for subscribers")
     return p
@@ -162,6 +164,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise InputError(f"--namespace needs a bag with one unit, found {len(recording.units)}")
         if args.speed < 0:
             raise InputError("--speed must be >= 0")
+        chosen = set(args.signals.split(",")) if args.signals else set(INPUT_TOPICS)
+        if chosen - set(INPUT_TOPICS):
+            raise InputError(f"--signals: unknown {sorted(chosen - set(INPUT_TOPICS))}; "
+                             f"use {', '.join(INPUT_TOPICS)}")
     except InputError as exc:
         print(f"ebm-wear-player: error: {exc}", file=sys.stderr)
         return 2
@@ -169,7 +175,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     node = rclpy.create_node("bag_player")
     try:
         players = [Player(node, args.namespace or unit,
-                          {s: (sig.stamps, sig.values) for s, sig in data.signals.items()}, args.reliable)
+                          {s: (sig.stamps, sig.values) for s, sig in data.signals.items() if s in chosen},
+                          args.reliable)
                    for unit, data in recording.units.items()]
         for player in players:
             if not player.wait_for_subscribers(args.subscribers, args.wait_timeout):

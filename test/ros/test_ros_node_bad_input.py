@@ -91,6 +91,7 @@ def test_bad_input_is_counted_never_crashes_and_never_corrupts_the_wear(procs, m
     lines = procs.listener()
     node = procs.node("-r", "__ns:=/embu", state_dir=tmp_path / "state",
                       params={"qos_reliability": "reliable"})
+    lines.wait_until(lambda s: any(m["topic"] == "remaining_life" for m in s), 30)  # node up and matched
     intruder = procs.start([sys.executable, "-c", INTRUDER])
     assert intruder.stdout.readline().strip() == "SENT"
     player = procs.player(bag, "--reliable", "--speed", "5")
