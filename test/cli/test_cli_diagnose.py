@@ -58,6 +58,17 @@ def test_bad_input_exits_2_with_one_line(argv, msg, capsys, tmp_path):
     assert err.count("\n") == 0 and msg in err
 
 
+def test_bag_without_current_exits_2(tmp_path, capsys):
+    r = simulate_case(load_unit(), Case({}, 0.0, 7, 0))
+    path = tmp_path / "nocur"
+    write_unit_bag(path, r.t, {"/embu": {"angle": r.angle, "velocity": r.velocity, "axial_force": r.axial_force}})
+    out = tmp_path / "x.json"
+    assert main(["diagnose", str(path), "--params", "embu_000", "--json", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "motor/current" in err and err.count("\n") == 0
+    assert not out.exists()
+
+
 def test_bad_params_file_exits_2(bag, tmp_path, capsys):
     p = tmp_path / "bad.yaml"
     p.write_text("ball_screw: [1, 2]\n")
