@@ -61,7 +61,8 @@ def test_bad_input_exits_2_with_one_line(argv, msg, capsys, tmp_path):
 def test_bag_without_current_exits_2(tmp_path, capsys):
     r = simulate_case(load_unit(), Case({}, 0.0, 7, 0))
     path = tmp_path / "nocur"
-    write_unit_bag(path, r.t, {"/embu": {"angle": r.angle, "velocity": r.velocity, "axial_force": r.axial_force}})
+    sig = {"angle": r.angle, "velocity": r.velocity, "axial_force": r.axial_force}
+    write_unit_bag(path, r.t, {"/embu": sig})
     out = tmp_path / "x.json"
     assert main(["diagnose", str(path), "--params", "embu_000", "--json", str(out)]) == 2
     err = capsys.readouterr().err.strip()
