@@ -41,9 +41,11 @@ the band edge is clipped on one side only, which biases the static level
 upwards and made "larger T_fs" look significant on noise-only data.)
 
 **Force channel (004 eq. 4-5).**  The nut travel x = l theta_s / (2 pi) (screw
-angle from the recording, released position at theta_s = 0) predicts the clamp
+angle from the recording, counted from the released position) predicts the clamp
 force F = K_b max(0, x - x_ag); the block mean of recorded minus predicted force
-is R_F [N].  It sees clearance, stiffness and force-sensor errors, which the
+is R_F [N] (the angle is counted from the rest position, the median angle of
+the idle samples, so an encoder offset does not read as clearance).
+It sees clearance, stiffness and force-sensor errors, which the
 torque channel (evaluated at the *recorded* force) does not.
 
 **Current timing.**  A sampled current is ambiguous by up to a sample
@@ -69,7 +71,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from ebm_wear_monitor.diagnosis.noise import signal_noise
-from ebm_wear_monitor.diagnosis.phases import Segmentation
+from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
@@ -162,6 +164,16 @@ def force_from_travel(n: Nominal, aug: Augment, x: np.ndarray) -> np.ndarray:
     return (1.0 + aug.force_gain) * (n.K_b * d + aug.stiffness_quad * d * d) + aug.force_bias
 
 
+def rest_angle(rec: Recording, seg: Segmentation) -> float:
+    """Rest (released) screw angle [rad]: the median angle of all idle samples (else the first sample).
+
+    One value for the recording: the controller returns to the same rest position every cycle,
+    and a per-cycle estimate would add a noise shared by all blocks of a cycle.
+    """
+    idle = seg.phase == IDLE
+    return float(np.median(rec.angle[idle])) if idle.any() else float(rec.angle[0])
+
+
 @dataclass(frozen=True)
 class Blocks:
     """Blocks of samples [start, stop] (end points shared by neighbours) inside one phase run of one cycle."""
@@ -226,7 +238,7 @@ class ResidualModel:
         #: J_me dw_m/dt from the recorded speed (central differences, whose trapezoid integral over
         #: a block telescopes to the block's speed change): the inertia torque of samples at rest
         self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
-        self.x = nominal.lead * rec.angle / (2.0 * math.pi)  # nut travel, 004 eq. 4 [m]
+        self.x = nominal.lead * (rec.angle - rest_angle(rec, seg)) / (2.0 * math.pi)  # nut travel, eq. 4 [m]
         self.drive_torque = nominal.K_T * rec.current  # motor torque, 004 eq. 7 [N m]
         self.blocks = make_blocks(seg, rec.velocity, rec.axial_force, self.moving,
                                   max(2, round(block_s / rec.dt)))

@@ -10,7 +10,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.phases import GENERATION, segment
-from ebm_wear_monitor.diagnosis.recording import recording_from_signals
+from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
 from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal, ResidualModel
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
@@ -78,3 +78,11 @@ def test_recording_from_signals_sorts_and_dedups():
            "axial_force": (t, 3 * t), "current": (t, -t)}
     rec = recording_from_signals(sig)
     assert rec.t.size == 200 and np.allclose(rec.angle, 2 * rec.t) and np.allclose(rec.current, -rec.t)
+
+
+def test_force_channel_ignores_an_encoder_offset(nom):
+    rec = synth(nom, Augment(clearance=2e-5), cycles=4, seed=1)
+    shifted = Recording(rec.t, rec.angle + 57.3, rec.velocity, rec.axial_force, rec.current)
+    r0 = ResidualModel(rec, segment(rec), nom).residuals()["force"]
+    r1 = ResidualModel(shifted, segment(shifted), nom).residuals()["force"]
+    assert np.allclose(r0, r1, atol=1e-6 * nom.K_b * 2e-5)
