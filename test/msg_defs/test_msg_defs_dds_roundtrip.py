@@ -20,7 +20,8 @@ SUBSCRIBER = textwrap.dedent(f"""
     rclpy.init()
     node = rclpy.create_node("roundtrip_listener")
     got = []
-    qos = QoSProfile(depth={N_MESSAGES}, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_ALL)
+    qos = QoSProfile(depth={N_MESSAGES}, reliability=ReliabilityPolicy.RELIABLE,
+                     history=HistoryPolicy.KEEP_ALL)
     node.create_subscription(Float64Stamped, "/embu/axial_force",
         lambda m: got.append([m.header.stamp.sec, m.header.stamp.nanosec, m.header.frame_id, m.data]), qos)
     print("READY", flush=True)
@@ -36,7 +37,8 @@ PUBLISHER = textwrap.dedent(f"""
     from ebm_wear_msgs.msg import Float64Stamped
     rclpy.init()
     node = rclpy.create_node("roundtrip_talker")
-    qos = QoSProfile(depth={N_MESSAGES}, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_ALL)
+    qos = QoSProfile(depth={N_MESSAGES}, reliability=ReliabilityPolicy.RELIABLE,
+                     history=HistoryPolicy.KEEP_ALL)
     pub = node.create_publisher(Float64Stamped, "/embu/axial_force", qos)
     deadline = time.monotonic() + 20
     while pub.get_subscription_count() == 0 and time.monotonic() < deadline:
@@ -57,7 +59,7 @@ def test_float64stamped_crosses_processes(ros_env: dict[str, str]) -> None:
         assert listener.stdout is not None
         assert listener.stdout.readline().strip() == "READY"
         talker = subprocess.run([sys.executable, "-c", PUBLISHER], env=ros_env,
-                                capture_output=True, text=True, timeout=60)
+                                capture_output=True, text=True, timeout=60, check=False)
         assert talker.returncode == 0, talker.stderr
         out, err = listener.communicate(timeout=30)
     finally:
