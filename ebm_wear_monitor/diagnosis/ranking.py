@@ -171,8 +171,8 @@ class Scorer:
         """Sum of z^2 per held-out cycle."""
         m = self.split.heldout
         z2 = self.z(aug, m) ** 2
-        rows = self.row_cycles(m)
-        return np.array([z2[rows == c].sum() for c in self.split.heldout_cycles])
+        where = np.searchsorted(self.split.heldout_cycles, self.row_cycles(m))  # held-out cycles are sorted
+        return np.bincount(where, weights=z2, minlength=self.split.heldout_cycles.size)
 
     def gap_rows(self, aug: Augment) -> np.ndarray:
         """Held-out z of the rows the gap metric uses (torque rows of blocks at rest left out)."""
@@ -314,13 +314,11 @@ def fit_effect(sc: Scorer, effect: Effect, timing: bool = True) -> tuple[np.ndar
         if best is None or res.cost < best.cost:
             best = res
     J, z = best.jac, best.fun
-    rows = sc.row_cycles(mask)
+    _, rows = np.unique(sc.row_cycles(mask), return_inverse=True)
     bread = np.linalg.pinv(J.T @ J)
-    meat = np.zeros((effect.k, effect.k))
-    for c in np.unique(rows):
-        g = J[rows == c].T @ z[rows == c]
-        meat += np.outer(g, g)
-    cov = bread @ meat @ bread
+    scores = np.zeros((rows.max() + 1, effect.k))  # per-cycle score vectors J_c' z_c
+    np.add.at(scores, rows, J * z[:, None])
+    cov = bread @ (scores.T @ scores) @ bread
     return best.x * scale, np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
 
 
