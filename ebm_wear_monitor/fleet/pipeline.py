@@ -224,7 +224,7 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
     hashes = _hashes(client, root, units, manifest)
     run = FleetRun(units)
     pending = {}
-    params_future = client.scatter(params, broadcast=True)
+    params_future = client.scatter(params, broadcast=True, hash=False)  # a fresh key for every run
     order = sorted(units, key=lambda u: -sum(b.size for b in units[u]))
     for folder in order:
         unit_hashes = [hashes[b.relpath] for b in units[folder]]
@@ -259,4 +259,6 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
                 on_unit(outcome)
     finally:
         manifest.save()
+        if pending:  # interrupted: leave no task of this run behind on a shared cluster
+            client.cancel(list(pending))
     return run

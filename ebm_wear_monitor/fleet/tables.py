@@ -28,6 +28,9 @@ from ebm_wear_monitor.replay.output import atomic_write, write_json
 SUMMARY_COLUMNS = ["rank", "unit", "status", "cycles_p05", "cycles_p50", "cycles_p95", "clearance_estimate_m",
                    "clearance_std_m", "limit_m", "duty_cycles", "input_faults_total", "bags", "error"]
 
+#: columns that stay text even when every value is null
+TEXT_COLUMNS = ["unit", "status", "error", "input_faults", "limiting_mechanism"]
+
 
 @dataclass
 class FleetTables:
@@ -53,6 +56,15 @@ def flatten(entry: dict) -> dict:
     return row
 
 
+def _numeric(frame: pd.DataFrame) -> pd.DataFrame:
+    """Columns holding only numbers and nulls (None from JSON) as float/int columns (NaN for null)."""
+    for col in frame.columns.difference(TEXT_COLUMNS):
+        values = frame[col]
+        if values.map(lambda v: v is None or (isinstance(v, (int, float)) and not isinstance(v, bool))).all():
+            frame[col] = pd.to_numeric(values, errors="coerce")
+    return frame
+
+
 def assemble(out: Path, folders: list[str], manifest: Manifest) -> FleetTables:
     """Gather the result files of ``folders`` (the units found in DIR now) into the fleet outputs."""
     rows, apps, entries, failures = [], [], [], []
@@ -75,7 +87,7 @@ def assemble(out: Path, folders: list[str], manifest: Manifest) -> FleetTables:
         if parquet.exists():
             apps.append(pd.read_parquet(parquet))
     columns = list(dict.fromkeys([*SUMMARY_COLUMNS[1:], *(k for r in rows for k in r)]))
-    units = pd.DataFrame(rows, columns=columns)
+    units = _numeric(pd.DataFrame(rows, columns=columns))
     keys = units.assign(_failed=units["status"] != "ok",
                         _p05=pd.to_numeric(units["cycles_p05"], errors="coerce"))
     units = units.loc[keys.sort_values(["_failed", "_p05", "unit"], na_position="last").index]
