@@ -21,6 +21,10 @@ APPLICATION_COLUMNS: dict[str, str] = {
     "cycles_p50": "... median [-]",
     "cycles_p95": "... 95th percentile [-]",
     "peak_force_n": "peak axial force of the application [N]",
+    "screw_wear_increment_m": "wear depth of the screw raceway added by this application [m]",
+    "nut_wear_increment_m": "... of the nut raceway [m]",
+    "ball_wear_increment_m": "... of the balls [m]",
+    "wear_rate_factor": "filter's correction of the model wear rate after this application [-]",
 }
 
 

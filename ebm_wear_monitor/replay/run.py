@@ -114,8 +114,7 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
             progress(fed)
     if not n_windows:
         core.process(final=True)
-    columns = list(dict.fromkeys([*APPLICATION_COLUMNS, *(rows[0] if rows else [])]))
-    applications = pd.DataFrame(rows, columns=columns)
+    applications = pd.DataFrame(rows, columns=list(APPLICATION_COLUMNS))
     result = UnitReplay(data.unit, {"unit": data.unit, **core.snapshot().to_json_dict()}, applications,
                         bags=[str(b) for b in data.bags], messages=data.messages, truth=truth,
                         state=core.state.to_dict())

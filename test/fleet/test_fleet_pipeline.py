@@ -20,6 +20,8 @@ from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
 from ebm_wear_monitor.fleet.tables import assemble, write_tables
 from ebm_wear_monitor.params import load_unit
 
+pytestmark = pytest.mark.timeout(240)  # a hung cluster fails fast instead of eating the CI budget
+
 N_UNITS = 20
 TRUNCATED_UNIT = "train00/car0/embu1"
 WRONG_TYPE_UNIT = "train99/car0/embu0"
