@@ -230,3 +230,27 @@ def test_bad_bags_can_be_collected_instead_of_raised(tmp_path):
     assert rec.messages == 4 * len(t)
     assert list(failed) == [str(tmp_path / "missing")]
     assert "no such bag" in failed[str(tmp_path / "missing")]
+
+
+def test_reading_leaves_the_garbage_collector_as_it_found_it(tmp_path):
+    """The reader pauses cyclic GC while records stream in; it must restore it, also on errors and
+    when several threads read at once."""
+    import gc
+    from concurrent.futures import ThreadPoolExecutor
+
+    t = np.arange(0, 2.0, 0.001)
+    write_unit_bag(tmp_path / "bag", t, {"/embu": _signals(t)}, storage="sqlite3")
+    assert gc.isenabled()
+    with ThreadPoolExecutor(4) as pool:
+        counts = list(pool.map(lambda _: read_bags([tmp_path / "bag"]).messages, range(8)))
+    assert counts == [4 * len(t)] * 8
+    assert gc.isenabled()
+    with pytest.raises(InputError):
+        read_bags([tmp_path / "bag", tmp_path / "missing"])
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        read_bags([tmp_path / "bag"])
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
