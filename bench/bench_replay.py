@@ -6,14 +6,16 @@ For each, on one core, in the same run:
 
 * raw read: ``rosbags`` ``Reader.messages()`` over every message, bytes only, no
   decoding: the floor any replay must stand on (the baseline);
+* raw read, GC paused: the same with Python's cyclic garbage collector paused, as
+  the bulk reader does while records stream in (a stricter baseline, also printed);
 * general decode: the same plus ``typestore.deserialize_cdr`` per message (one
   Python object per message, what a naive replay would do);
 * bulk read: ``bagio.read_bags`` (raw records decoded in bulk with numpy);
 * replay: ``replay.run.replay_bags`` = bulk read + the monitor core + per-application
   history, i.e. ``ebm-wear replay`` without printing.
 
-Printed: messages per second of each and the ratio replay / raw read (issue 6
-target: >= 0.25). Best of ``--repeat`` runs each.
+Printed: messages per second of each and the ratios replay / raw read (issue 6
+target: >= 0.25) and replay / raw read with GC paused. Best of ``--repeat`` runs each.
 
 Run: ``.venv/bin/python bench/bench_replay.py [--seconds 300] [--repeat 3]``
 """
@@ -21,6 +23,7 @@ Run: ``.venv/bin/python bench/bench_replay.py [--seconds 300] [--repeat 3]``
 from __future__ import annotations
 
 import argparse
+import gc
 import tempfile
 import time
 from pathlib import Path
@@ -60,6 +63,14 @@ def raw_read(bag: Path) -> int:
         return sum(1 for _ in reader.messages())
 
 
+def raw_read_gc_paused(bag: Path) -> int:
+    gc.disable()
+    try:
+        return raw_read(bag)
+    finally:
+        gc.enable()
+
+
 def general_decode(bag: Path) -> int:
     store = typestore()
     with Reader(bag) as reader:
@@ -79,15 +90,18 @@ def main() -> None:
             bag = Path(tmp) / storage
             write_unit_bag(bag, t, {"/embu": signals}, storage=storage)
             n_raw_s, n = best(lambda b=bag: raw_read(b), args.repeat)
+            nogc_s, _ = best(lambda b=bag: raw_read_gc_paused(b), args.repeat)
             gen_s, _ = best(lambda b=bag: general_decode(b), 1)
             bulk_s, rec = best(lambda b=bag: read_bags([b]), args.repeat)
             replay_s, res = best(lambda b=bag: replay_bags([b], unit), args.repeat)
             assert rec.messages == n
-            raw, gen, bulk, rep = n / n_raw_s, n / gen_s, n / bulk_s, n / replay_s
-            print(f"{storage:8s} raw read {raw / 1e3:8.0f} k msg/s | general decode {gen / 1e3:6.0f} k msg/s "
-                  f"({gen / raw:.2f}) | bulk read {bulk / 1e3:6.0f} k msg/s ({bulk / raw:.2f}) | "
-                  f"replay {rep / 1e3:6.0f} k msg/s | replay / raw read = {rep / raw:.2f} (target >= 0.25); "
-                  f"{res.units[0].summary['duty_cycles']} applications")
+            raw, nogc, gen, bulk, rep = n / n_raw_s, n / nogc_s, n / gen_s, n / bulk_s, n / replay_s
+            cycles = res.units[0].summary["duty_cycles"]
+            print(f"{storage}: raw read {raw / 1e3:.0f} k msg/s (GC paused {nogc / 1e3:.0f} k) | general "
+                  f"decode {gen / 1e3:.0f} k ({gen / raw:.2f}) | bulk read {bulk / 1e3:.0f} k "
+                  f"({bulk / raw:.2f}) | replay {rep / 1e3:.0f} k msg/s, {cycles} applications\n"
+                  f"    replay / raw read = {rep / raw:.2f} (target >= 0.25); replay / raw read with GC "
+                  f"paused = {rep / nogc:.2f}")
 
 
 if __name__ == "__main__":
