@@ -31,11 +31,17 @@ from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
 from ebm_wear_monitor.params import load_unit
 
 
-def warm_up() -> None:
-    """One MonitorCore per worker: imports and the physics surrogate table, outside the timing."""
+def warm_up(params) -> None:
+    """One MonitorCore per worker: imports and the physics surrogate table of the fleet's unit file
+    (cached per parameter set), outside the timing."""
     from ebm_wear_monitor.monitor import MonitorCore
 
-    MonitorCore(load_unit())
+    MonitorCore(params)
+
+
+def cpu_seconds() -> float:
+    """CPU time of this process so far [s] (user + system)."""
+    return time.process_time()
 
 
 def main() -> None:
@@ -52,7 +58,7 @@ def main() -> None:
             params, bags = generate_fleet(root, units, params, client)
         messages = bag_message_count(bags)
         print(f"fleet: {args.units} units, {len(bags)} bags, {messages} messages at {args.rate:g} Hz")
-        warm_up()
+        warm_up(params)
         units = discover(root)
         t0 = time.perf_counter()
         for folder, bag_files in units.items():
@@ -64,15 +70,18 @@ def main() -> None:
         times = {}
         for workers in (1, 2):
             with dask_client(n_workers=workers) as client:
-                client.run(warm_up)
+                client.run(warm_up, params)
+                cpu0 = sum(client.run(cpu_seconds).values())
                 t0 = time.perf_counter()
                 run = run_fleet(client, root, Path(tmp) / f"out{workers}", params)
                 times[workers] = time.perf_counter() - t0
+                cpu = sum(client.run(cpu_seconds).values()) - cpu0
             assert len(run.processed) == len(discover(root))
             wall = times[workers]
             print(f"{workers} worker(s): {wall:6.2f} s, {args.units / wall:6.2f} units/s, "
                   f"{messages / wall / 1e3:7.1f} k msg/s, "
-                  f"{workers * times[workers] / messages * 1e6:5.2f} core-s per million messages")
+                  f"{workers * times[workers] / messages * 1e6:5.2f} core-s per million messages; worker CPU "
+                  f"{cpu:.2f} s ({cpu / serial:.2f} of the serial wall time)")
         print(f"Dask overhead T1 / T_serial = {times[1] / serial:.2f}; scaling efficiency 1 -> 2 workers: "
               f"T1 / (2 T2) = {times[1] / (2 * times[2]):.2f} (load average {os.getloadavg()[0]:.1f})")
 
