@@ -41,6 +41,7 @@ def duty_cycle(c: CycleSummary) -> DutyCycle:
                     peak_speed_rad_s=c.peak_speed_rad_s, stroke_rad=c.stroke_rad,
                     screw_wear_m=list(c.screw_wear_m), nut_wear_m=list(c.nut_wear_m),
                     ball_wear_m=list(c.ball_wear_m), clearance_observed_m=c.clearance_observed_m,
+                    clearance_observed_std_m=c.clearance_observed_std_m,
                     clearance_estimate_m=c.clearance_estimate_m)
     (msg.clearance_elimination_s, msg.force_generation_s, msg.force_maintenance_s,
      msg.force_release_s) = c.phase_durations_s
@@ -50,7 +51,8 @@ def duty_cycle(c: CycleSummary) -> DutyCycle:
 
 def wear_state(s: MonitorSnapshot) -> WearState:
     """Cumulative wear and filtered clearance; header stamp = end of the last integrated segment."""
-    msg = WearState(duty_cycles=s.duty_cycles, screw_raceway_m=s.wear_screw_m, nut_raceway_m=s.wear_nut_m,
+    msg = WearState(duty_cycles=s.duty_cycles, observations=s.observations, screw_raceway_m=s.wear_screw_m,
+                    nut_raceway_m=s.wear_nut_m,
                     ball_m=s.wear_ball_m, clearance_model_m=s.clearance_model_m,
                     clearance_estimate_m=s.clearance_estimate_m, clearance_std_m=s.clearance_std_m,
                     wear_rate_factor=s.wear_rate_factor, wear_rate_factor_std=s.wear_rate_factor_std)
@@ -65,6 +67,7 @@ def remaining_life(s: MonitorSnapshot) -> RemainingLife:
                         cycles_p50=_num(s.cycles_p50), cycles_p95=_num(s.cycles_p95),
                         hours_p50=_num(s.hours_p50), applications_per_hour=_num(s.applications_per_hour),
                         fatigue_l10_revolutions=_num(s.fatigue_l10_revolutions),
+                        fatigue_cubic_mean_load_n=_num(s.fatigue_cubic_mean_load_n),
                         fatigue_remaining_cycles=_num(s.fatigue_remaining_cycles),
                         limiting_mechanism=s.limiting_mechanism)
     msg.header.stamp = stamp(s.last_stamp_ns)
