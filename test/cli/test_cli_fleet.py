@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 
 import pandas as pd
 import pytest
@@ -33,7 +34,10 @@ def test_generate_and_run_on_an_existing_scheduler(tmp_path, scheduler, capsys):
     names = ["train00/car0/embu0", "train00/car0/embu1", "train00/car1/embu0"]
     assert sorted(u["unit"] for u in units) == names
     assert len(pd.read_parquet(out / "units.parquet")) == 3
-    assert (out / "report" / "index.html").exists()
+    page = (out / "report" / "index.html").read_text()
+    images = re.findall(r"src='([^']+)'", page)
+    assert len(images) == 4 and all((out / "report" / i).read_bytes()[:4] == b"\x89PNG" for i in images)
+    assert "train00/car0/embu0" in page
     assert (fleet / "params.yaml").exists()
     assert main(["fleet", str(fleet), "--scheduler", scheduler, "--out", str(out), "--no-progress"]) == 0
     assert "0 processed, 3 unchanged" in capsys.readouterr().out  # same bags, same unit file: skipped
