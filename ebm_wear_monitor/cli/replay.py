@@ -54,10 +54,11 @@ def format_unit(entry: dict) -> str:
              f"  input faults: {faults}"]
     p = entry.get("prognostics")
     if p and p["predictions"]:
+        horizon = "—" if p["prognostic_horizon_cycles"] is None else f"{p['prognostic_horizon_cycles']:.4g}"
         lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): cumulative "
                      f"relative accuracy {p['cumulative_relative_accuracy']:.3g}, share in the alpha cone "
-                     f"{p['alpha_lambda_fraction']:.2f}, prognostic horizon "
-                     f"{p['prognostic_horizon_cycles']}, alpha-lambda pass {p['alpha_lambda_pass']}")
+                     f"{p['alpha_lambda_fraction']:.2f}, prognostic horizon {horizon} applications, "
+                     f"alpha-lambda pass {p['alpha_lambda_pass']}")
     elif p:
         lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): no prediction "
                      "to judge yet")

@@ -83,7 +83,8 @@ def rul_figure(app: pd.DataFrame, truth: dict | None) -> Figure:
     ax.fill_between(k, app["cycles_p05"], app["cycles_p95"], alpha=0.3, label="p05-p95")
     ax.plot(k, app["cycles_p50"], label="median")
     if truth is not None and truth.get("eol_cycles") is not None:
-        true_rul = truth["eol_cycles"] - k
+        # k counts the applications of this replay; the truth counts since new
+        true_rul = truth["eol_cycles"] - (k + float(truth.get("cycles_at_start") or 0))
         ax.plot(k, true_rul, "k--", label="true")
         ax.fill_between(k, (1 - ALPHA) * true_rul, (1 + ALPHA) * true_rul, color="k", alpha=0.08,
                         label=f"±{ALPHA:.0%} cone")

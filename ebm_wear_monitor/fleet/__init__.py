@@ -1,0 +1,4 @@
+"""Fleet PHM pipeline on Dask.
+
+Discovery, incremental manifest, per-unit replay tasks, Parquet tables, report, synthetic fleets.
+"""
