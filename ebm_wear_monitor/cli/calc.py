@@ -16,8 +16,8 @@ import argparse
 import math
 from typing import Any
 
-from ebm_wear_monitor.cli.diagnose import write_json
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.outputs import write_json
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.physics.kinematics import KINEMATICS
 from ebm_wear_monitor.physics.plasticity import KAPPA_READINGS, RADIUS_READINGS

@@ -78,9 +78,9 @@ def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.fleet.report import write_fleet_report
     from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
     from ebm_wear_monitor.fleet.tables import SUMMARY_COLUMNS, assemble, write_tables
+    from ebm_wear_monitor.outputs import write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
-    from ebm_wear_monitor.replay.output import write_json
 
     _check(args)
     fleet_params = Path(args.dir) / "params.yaml"

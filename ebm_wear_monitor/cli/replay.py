@@ -70,9 +70,9 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from ebm_wear_monitor.bagio import bag_message_count
+    from ebm_wear_monitor.outputs import write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
-    from ebm_wear_monitor.replay.output import write_json
     from ebm_wear_monitor.replay.report import write_replay_report
     from ebm_wear_monitor.replay.run import replay_bags
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.fleet.discover import BagFile
-from ebm_wear_monitor.replay.output import write_json
+from ebm_wear_monitor.outputs import write_json
 
 MANIFEST_FILE = "manifest.json"
 FORMAT = 1

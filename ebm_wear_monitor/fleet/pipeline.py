@@ -45,8 +45,8 @@ from ebm_wear_monitor.bagio import Recording, read_bags
 from ebm_wear_monitor.fleet.discover import BagFile, content_hash, discover
 from ebm_wear_monitor.fleet.manifest import Manifest
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorState
+from ebm_wear_monitor.outputs import atomic_write, write_json
 from ebm_wear_monitor.params import UnitParams
-from ebm_wear_monitor.replay.output import atomic_write, write_json
 from ebm_wear_monitor.replay.report import slug
 from ebm_wear_monitor.replay.result import UnitReplay
 from ebm_wear_monitor.replay.run import judge, replay_unit, truth_by_namespace

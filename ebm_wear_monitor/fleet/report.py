@@ -19,7 +19,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from ebm_wear_monitor.fleet.tables import SUMMARY_COLUMNS, FleetTables
-from ebm_wear_monitor.replay.output import publish_directory
+from ebm_wear_monitor.outputs import publish_directory
 from ebm_wear_monitor.replay.report import faults_figure, page, save_png
 
 TOP = 30  # units shown in the urgent-units plot and table

@@ -31,9 +31,9 @@ import numpy as np
 import yaml
 
 from ebm_wear_monitor.bagio import Series, write_unit_bag
+from ebm_wear_monitor.outputs import atomic_write, write_json
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.params.unit import unit_from_dict
-from ebm_wear_monitor.replay.output import atomic_write, write_json
 
 #: default factor on the wear coefficient k_slip of a synthetic fleet's unit file [-]
 WEAR_SCALE = 2e4

@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor.fleet.manifest import Manifest
-from ebm_wear_monitor.replay.output import atomic_write, write_json
+from ebm_wear_monitor.outputs import atomic_write, write_json
 
 SUMMARY_COLUMNS = ["rank", "unit", "status", "cycles_p05", "cycles_p50", "cycles_p95", "clearance_estimate_m",
                    "clearance_std_m", "limit_m", "duty_cycles", "input_faults_total", "bags", "error"]

@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ebm_wear_monitor.replay.output import publish_directory
+from ebm_wear_monitor.outputs import publish_directory
 from ebm_wear_monitor.replay.prognostics import ALPHA
 from ebm_wear_monitor.replay.result import UnitReplay
 

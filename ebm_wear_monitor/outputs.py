@@ -1,4 +1,7 @@
-"""Writing results so that nothing is ever half-written: temporary sibling, then an atomic rename."""
+"""Writing results so that nothing is ever half-written: temporary sibling, then an atomic rename.
+
+Shared by every command that writes files (JSON, Parquet, reports, unit files).
+"""
 
 from __future__ import annotations
 
