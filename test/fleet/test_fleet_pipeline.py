@@ -167,7 +167,7 @@ def test_incremental_and_resumable(tmp_path, fleet_dir, client, params):
 
 def test_ranking_by_p05_puts_urgent_first_and_unknown_last(tmp_path):
     """Three result files with known p05 (one without measurable growth) rank 2 < 7 < None."""
-    from ebm_wear_monitor.replay.output import write_json
+    from ebm_wear_monitor.outputs import write_json
 
     manifest = Manifest.load(tmp_path)
     for unit, p05 in (("a", 7.0), ("b", None), ("c", 2.0)):
