@@ -98,4 +98,5 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         "residual_method": RESIDUAL_METHOD,
         "current_time_shift_s": sc.base.current_shift,
+        "load_quadrature_shift_s": sc.base.load_shift,
     }, sc, ranking)

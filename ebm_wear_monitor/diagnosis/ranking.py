@@ -263,28 +263,37 @@ class EffectFit:
         }
 
 
-def with_timing(effect: Effect, dt: float, start: float = 0.0) -> Effect:
-    """``effect`` plus the current-timing nuisance parameter tau in [-dt, dt] (:mod:`.residuals`)."""
+def with_timing(effect: Effect, dt: float, start: tuple[float, float] = (0.0, 0.0)) -> Effect:
+    """``effect`` plus the two acquisition nuisances tau in [-dt, dt] and tau_M in [-dt/2, dt/2].
+
+    tau: sample timing of the current; tau_M: quadrature rule of the load torque between samples,
+    from the left rectangle (-dt/2, a drive or simulator holding the force over the period) over
+    the trapezoid (0, a sampled continuous plant) to the right rectangle (+dt/2); see
+    :mod:`.residuals`, "Quadrature rule of the load".  Refitted with every effect.
+    """
     k = effect.k
 
     def to_augment(p: np.ndarray) -> Augment:
-        return dataclasses.replace(effect.to_augment(p[:k]), current_shift=float(p[k]))
+        return dataclasses.replace(effect.to_augment(p[:k]), current_shift=float(p[k]),
+                                   load_shift=float(p[k + 1]))
 
-    lower = (effect.lower or (-np.inf,) * k) + (-dt,)
-    upper = (effect.upper or (np.inf,) * k) + (dt,)
-    return Effect(effect.name, effect.meaning, (*effect.params, "tau"), (*effect.units, "s"), to_augment,
-                  (*effect.scale, 0.5 * dt), tuple((*s0, start) for s0 in effect.starts), lower, upper)
+    lower = (effect.lower or (-np.inf,) * k) + (-dt, -0.5 * dt)
+    upper = (effect.upper or (np.inf,) * k) + (dt, 0.5 * dt)
+    return Effect(effect.name, effect.meaning, (*effect.params, "tau", "tau_M"), (*effect.units, "s", "s"),
+                  to_augment, (*effect.scale, 0.5 * dt, 0.5 * dt),
+                  tuple((*s0, *start) for s0 in effect.starts), lower, upper)
 
 
-TIMING = Effect("current_timing", "sample timing of the current against the motion (nuisance)", (), (),
-                lambda p: NOMINAL, (), ((),))
+TIMING = Effect("acquisition_timing", "sample timing of the current, quadrature rule of the load (nuisance)",
+                (), (), lambda p: NOMINAL, (), ((),))
 
 
 def fit_timing(sc: Scorer) -> Augment:
-    """The nominal twin with the current timing tau that fits the calibration cycles best."""
+    """The nominal twin with the nuisances (tau, tau_M) that fit the calibration cycles best."""
     dt = sc.model.rec.dt
     eff = with_timing(TIMING, dt)
-    eff = dataclasses.replace(eff, starts=((-0.5 * dt,), (0.0,), (0.5 * dt,)))
+    h = 0.5 * dt
+    eff = dataclasses.replace(eff, starts=((-h, 0.0), (0.0, 0.0), (h, 0.0), (0.0, -0.5 * h), (h, -0.5 * h)))
     theta, _ = fit_effect(sc, eff, timing=False)
     return eff.to_augment(theta)
 
@@ -296,7 +305,7 @@ def fit_effect(sc: Scorer, effect: Effect, timing: bool = True) -> tuple[np.ndar
     parameter, starting from the nominal fit's value); the returned arrays then end with it.
     """
     if timing:
-        effect = with_timing(effect, sc.model.rec.dt, sc.base.current_shift)
+        effect = with_timing(effect, sc.model.rec.dt, (sc.base.current_shift, sc.base.load_shift))
     mask = sc.split.calibration
     scale = np.asarray(effect.scale, dtype=float)
     lo = -np.inf * np.ones(effect.k) if effect.lower is None else np.asarray(effect.lower, dtype=float)
@@ -329,7 +338,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray) -> EffectFit:
     s_after = sc.cycle_sse(aug)
     d = s_before - s_after
     score = float((d.sum() - 2.0 * effect.k) / s_before.sum())
-    fit = EffectFit(effect, theta[:-1], se[:-1], aug, sc.gap(aug), score, d, sc.z(aug, sc.split.heldout))
+    fit = EffectFit(effect, theta[:-2], se[:-2], aug, sc.gap(aug), score, d, sc.z(aug, sc.split.heldout))
     fit.p_value = improvement_p(sc.z(sc.base, sc.split.heldout), fit.z_heldout)
     return fit
 

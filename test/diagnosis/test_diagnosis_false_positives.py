@@ -1,0 +1,74 @@
+"""No false positives on no-effect data the diagnosis was not tuned on (issue 7: the worst failure).
+
+Sources: the twin's simulator stepping *at* the recording rate (its explicit
+integrator holds the force over each step: the left-rectangle rule, whose
+difference from the trapezoid looked like a smaller viscous friction before
+the quadrature nuisance existed), and an independent solve_ivp integration with
+a continuous control law, the current sampled instantaneously or as a period
+mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).
+"""
+
+import pytest
+
+from ebm_wear_monitor.diagnosis.pipeline import analyse
+from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.twin import simulate_unit
+
+DEMANDS = (8e3, 14e3, 20e3, 26e3)
+
+
+@pytest.fixture(scope="module")
+def unit():
+    return load_unit()
+
+
+def twin_at_rate(unit, rate_hz: float, seed: int) -> Recording:
+    sim = simulate_unit(unit, 12, demands=DEMANDS, seed=seed, rate_hz=rate_hz, wear=False, hold_s=0.3,
+                        rest_s=0.2)
+    return Recording(sim.t, sim.angle, sim.velocity, sim.axial_force, sim.current)
+
+
+@pytest.fixture(scope="module")
+def twin_1khz(unit):
+    return analyse(twin_at_rate(unit, 1000.0, 1), unit)
+
+
+def test_twin_at_the_recording_rate_gives_no_effect(twin_1khz):
+    assert twin_1khz[1].verdict == "none"
+
+
+def test_quadrature_nuisance_finds_the_left_rectangle_of_a_held_force(twin_1khz):
+    # the twin holds the force over each 1 ms step: the left rectangle = trapezoid read dt/2 earlier
+    sc = twin_1khz[0]
+    assert sc.base.load_shift == pytest.approx(-0.5e-3, abs=0.12e-3)
+
+
+@pytest.mark.parametrize("sampling", ["instant", "mean"])
+def test_independent_integration_gives_no_effect(unit, sampling):
+    rec = simulate_reference(unit, DEMANDS, cycles=12, current_sampling=sampling, seed=3)
+    sc, ranking = analyse(rec, unit)
+    assert ranking.verdict == "none"
+    # a current averaged over the preceding period lags by half a period: the timing nuisance sees it
+    expected = 0.5e-3 if sampling == "mean" else 0.0
+    assert sc.base.current_shift == pytest.approx(expected, abs=0.15e-3)
+
+
+def test_independent_integration_effect_is_found(unit):
+    rec = simulate_reference(unit, DEMANDS, cycles=12, effects={"load_friction": 0.3}, seed=4)
+    _, ranking = analyse(rec, unit)
+    assert ranking.verdict == "effect" and ranking.top.effect.name == "load_friction"
+    # the reference's friction is regularised (tanh) near zero speed, where the twin's is switched:
+    # within three standard errors or 15 % of the injected change
+    dG, se = ranking.top.theta[0], ranking.top.stderr[0]
+    true = 0.3 * unit.actuator.friction.load_coefficient
+    assert abs(dG - true) < max(3.0 * se, 0.15 * true)
+
+
+def test_reference_simulator_rejects_unknown_input(unit):
+    with pytest.raises(InputError, match="current_sampling"):
+        simulate_reference(unit, DEMANDS, cycles=4, current_sampling="late")
+    with pytest.raises(InputError, match="unknown effect"):
+        simulate_reference(unit, DEMANDS, cycles=4, effects={"stribeck": 1.0})
