@@ -1,12 +1,15 @@
 """``ebm-wear diagnose``: sim-to-real gap diagnosis of recorded bags against the twin (interface.md sec. 4).
 
-    ebm-wear diagnose BAG... --params P [--json OUT] [--report DIR]
+    ebm-wear diagnose BAG... --params P [--json OUT] [--report DIR] [--life]
     ebm-wear diagnose --selftest [--quick | --cases N] [--seed S] [--json OUT]
 
 One result per unit (namespace) found in the bags (a unit's topics may be spread
 over several bags).  The JSON holds ``units`` (one diagnosis object each) and,
 at the top level, the keys of the first unit's diagnosis, so a single-unit
-recording reads exactly as the spec's object.
+recording reads exactly as the spec's object.  ``--life`` adds the key ``life`` to each unit: the
+monitor core (:func:`ebm_wear_monitor.replay.run.replay_unit`) over the same signals gives the
+duty-cycle summaries, whose observed clearance growth :mod:`ebm_wear_monitor.diagnosis.life` compares
+with the wear model's (issue 7 item 5).
 """
 
 from __future__ import annotations
@@ -28,6 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--params", metavar="P", help="unit parameter file (YAML) or reference name")
     parser.add_argument("--json", metavar="OUT", help="write the result as JSON to OUT")
     parser.add_argument("--report", metavar="DIR", help="write an HTML report with plots into DIR")
+    parser.add_argument("--life", action="store_true",
+                        help="also the life level: the monitor core's duty-cycle summaries of the bags "
+                             "(observed clearance growth) against the wear model (key 'life')")
     parser.add_argument("--selftest", action="store_true",
                         help="blind self-test on twin recordings with withheld effects")
     parser.add_argument("--quick", action="store_true", help="self-test: reduced case set (CI)")
@@ -79,6 +85,24 @@ def _print_diagnosis(res: dict) -> None:
               f"p {r['p_value']:.2g}  {pars}")
     for t in res["near_ties"]:
         print(f"  near-tie {t['between'][0]} ~ {t['between'][1]}: {t['experiment']}")
+    life = res.get("life")
+    if life is not None:
+        top = life["ranking"][0]
+        print(f"  life ({life['summaries']} duty-cycle summaries): verdict {life['verdict']}"
+              + (f", effect {life['effect']}" if life["effect"] else "")
+              + f"; best {top['effect']} {', '.join(f'{v:.4g}' for v in top['parameters'])}"
+              + (f"; near-ties {', '.join(life['near_ties'])}" if life["near_ties"] else ""))
+
+
+def _life(data, unit) -> dict:
+    """Life-level diagnosis of one unit's signals: the monitor core over them, then :mod:`.life`."""
+    from ebm_wear_monitor.diagnosis.life import diagnose_life, life_data_from_applications
+    from ebm_wear_monitor.replay.run import replay_unit
+
+    d = life_data_from_applications(replay_unit(data, unit).applications)
+    return diagnose_life(d) | {"summaries": int(d.n.size),
+                               "source": "monitor core duty-cycle summaries (clearance observed per "
+                                         "application vs the wear model's growth)"}
 
 
 def _run_selftest(args: argparse.Namespace) -> int:
@@ -115,6 +139,8 @@ def run(args: argparse.Namespace) -> int:
     for name, ud in sorted(data.units.items()):
         rec = recording_from_signals({k: (s.stamps, s.values) for k, s in ud.signals.items()}, unit=name)
         res, sc, ranking = diagnose_with_state(rec, unit)
+        if args.life:
+            res["life"] = _life(ud, unit)
         results.append(res)
         states.append((res, sc, ranking))
     for res in results:

@@ -82,14 +82,38 @@ def _cumulative(d: LifeData, g: np.ndarray) -> np.ndarray:
 def _effects(d: LifeData) -> dict[str, tuple[np.ndarray, tuple]]:
     """Effects applicable to ``d``: name -> (start, (lower, upper) bounds)."""
     span = float(d.n[-1] - d.n[0])
-    out = {"wear_coefficient": (np.array([0.0]), ([-0.99], [100.0])),
-           "running_in": (np.array([0.0, 0.1 * span]), ([-np.inf, 1.0], [np.inf, 10 * span])),
+    out = {"wear_coefficient": (np.array([0.0]), ([-0.99], [np.inf])),
+           "running_in": (np.array([0.0, max(0.1 * span, 1.0)]),
+                          ([-np.inf, 0.5], [np.inf, max(10.0 * span, 10.0)])),
            "ball_share": (np.array([BALL_SHARE_000]), ([-0.99], [0.99]))}
     if d.force is not None:
         out["load_dependent_wear"] = (np.array([0.0]), ([-10.0], [10.0]))
     if d.speed is not None:
         out["speed_dependent_wear"] = (np.array([0.0]), ([-10.0], [10.0]))
     return out
+
+
+def life_data_from_applications(apps) -> LifeData:
+    """The monitor core's duty-cycle summaries (the replay's per-application table) as :class:`LifeData`.
+
+    ``apps`` has the columns of :data:`ebm_wear_monitor.replay.result.APPLICATION_COLUMNS`
+    (a pandas DataFrame or a mapping of arrays).  Applications whose clearance was
+    observable (``clearance_observed_m`` finite: the contact point seen in the force-angle
+    law) are kept; observed = that clearance [m]; predicted growth per cycle = the slope of
+    ``clearance_model_m`` (the wear model, 000 eq. 20-23 through
+    :func:`ebm_wear_monitor.physics.clearance_growth`) over the application count at each kept
+    application (``numpy.gradient``: second order inside, so the trapezoid sum of
+    :func:`diagnose_life` gives back the model's own growth) [m/cycle]; force =
+    ``peak_force_n`` [N].
+    """
+    observed = np.asarray(apps["clearance_observed_m"], dtype=float)
+    keep = np.isfinite(observed)
+    if keep.sum() < 2:
+        raise InputError(f"life diagnosis: only {int(keep.sum())} application(s) with an observed clearance")
+    n = np.asarray(apps["index"], dtype=float)[keep]
+    model = np.asarray(apps["clearance_model_m"], dtype=float)[keep]
+    return LifeData(n, observed[keep], np.gradient(model, n),
+                    force=np.asarray(apps["peak_force_n"], dtype=float)[keep])
 
 
 def diagnose_life(d: LifeData) -> dict:

@@ -1,6 +1,7 @@
 """``ebm-wear diagnose``: bags in, spec JSON out; bad input exits 2 with one line; self-test JSON."""
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -84,3 +85,14 @@ def test_selftest_json(tmp_path):
     res = json.loads(out.read_text())
     assert res.keys() >= SELFTEST_KEYS and res["cases"] == 3
     assert sum(sum(row.values()) for row in res["confusion"].values()) == 3
+
+
+def test_life_level_on_the_committed_healthy_bag(tmp_path):
+    bag = Path(__file__).resolve().parents[2] / "bags" / "healthy"
+    out = tmp_path / "life.json"
+    assert main(["diagnose", str(bag), "--params", "embu_000", "--life", "--json", str(out)]) == 0
+    res = json.loads(out.read_text())
+    assert res.keys() >= SPEC_KEYS | {"life"}
+    life = res["life"]
+    assert life["summaries"] >= 8 and life["verdict"] == "none"  # a new unit: no wear-level gap
+    assert {r["effect"] for r in life["ranking"]} >= {"wear_coefficient", "running_in", "ball_share"}

@@ -3,7 +3,12 @@
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.diagnosis.life import LifeData, diagnose_life, paper000_example
+from ebm_wear_monitor.diagnosis.life import (
+    LifeData,
+    diagnose_life,
+    life_data_from_applications,
+    paper000_example,
+)
 
 
 def _data(kind: str, seed: int = 0) -> LifeData:
@@ -45,3 +50,27 @@ def test_paper000_worked_example():
     assert (2 / 3) / (1 - ex["ball_share"]["beta"]) == pytest.approx(ratio)
     assert 0.39 < ex["ball_share"]["beta"] < 0.41
     assert ex["running_in"]["A_m"] == pytest.approx((1.65e-10 - 1.4843e-10) * 200_000)
+
+
+def test_monitor_summaries_become_life_data():
+    # the replay's per-application table: unobservable clearances (NaN) are skipped; the model's
+    # growth per cycle is its slope over the application count (a straight line: the slope itself)
+    apps = {"index": np.arange(1.0, 7.0), "peak_force_n": np.full(6, 1e4),
+            "clearance_model_m": 2e-4 + 3e-9 * np.arange(6.0),
+            "clearance_observed_m": np.array([2e-4, np.nan, 2.1e-4, 2.2e-4, np.nan, 2.3e-4])}
+    d = life_data_from_applications(apps)
+    assert np.array_equal(d.n, [1.0, 3.0, 4.0, 6.0])
+    assert np.allclose(d.predicted, 3e-9, rtol=1e-6, atol=0.0)
+    assert np.array_equal(d.observed, [2e-4, 2.1e-4, 2.2e-4, 2.3e-4]) and d.force.size == 4
+
+
+def test_summaries_with_faster_growth_name_a_scale_effect():
+    rng = np.random.default_rng(3)
+    n = np.arange(1.0, 41.0)
+    model = 2e-4 + 1e-7 * n  # 0.1 um per application predicted
+    apps = {"index": n, "peak_force_n": rng.choice([1e4, 2e4], n.size), "clearance_model_m": model,
+            "clearance_observed_m": 2e-4 + 1.5e-7 * n + rng.normal(0.0, 2e-8, n.size)}
+    res = diagnose_life(life_data_from_applications(apps))
+    assert res["verdict"] == "effect" and res["effect"] in ("wear_coefficient", "ball_share")
+    if res["effect"] == "wear_coefficient":
+        assert res["ranking"][0]["parameters"][0] == pytest.approx(0.5, abs=0.05)

@@ -46,7 +46,7 @@ def test_each_effect_recovers_its_own_parameters(name):
     sc, rec = scorer(aug)
     cat = build_catalog(NOM, float(np.abs(sc.model.w_m).max()), float(rec.axial_force.max()))
     theta, se = fit_effect(sc, cat[name])
-    for value, err, true in zip(theta[:-2], se[:-2], expected, strict=True):  # last two: acquisition nuisances
+    for value, err, true in zip(theta[:-2], se[:-2], expected, strict=True):  # last two: nuisances
         # within 4 cluster-robust standard errors or 5 % (the fit's resolution on 5 calibration cycles)
         assert abs(value - true) <= max(4.0 * err, 0.05 * abs(true)), (name, value, err, true)
 
