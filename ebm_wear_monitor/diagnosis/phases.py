@@ -23,9 +23,20 @@ rule on the smoothed velocity v and force F (a moving average over
   (controller dither in force maintenance would otherwise flicker the label).
 
 A new brake cycle starts at the first forward run (``clearance_elimination``
-or ``force_generation``) after a ``force_release`` run.  (The monitor core has its own duty-cycle detector for
-the wear summaries; this rule needs only the four input signals and is used
-by the diagnosis so that it does not depend on the monitor's internals.)
+or ``force_generation``) after a ``force_release`` run.
+
+Why not the monitor's segmentation (:mod:`ebm_wear_monitor.monitor.segmentation`)?
+It is a causal state machine built for the online wear integral: its
+:class:`~ebm_wear_monitor.monitor.segmentation.Segment` keeps labels for the
+*moving* samples only (memory bounded by moving time), so force-maintenance and
+idle samples carry no label, and a stretch that starts at the start of the data
+or after a gap is ``motion`` without phases.  The diagnosis needs a label for
+every sample: the idle samples give the rest angle from which the nut travel is
+counted (:func:`.residuals.rest_angle`), maintenance samples are the stick
+branch of 004 eq. 9, and blocks must not straddle any phase boundary, the
+first cycle of a recording included.  Using it would need per-sample labels in
+the monitor's API (owned by the monitor); until then this offline, non-causal
+rule (smoothing, then the same four phases of 000 Fig. 2) stays.
 """
 
 from __future__ import annotations
