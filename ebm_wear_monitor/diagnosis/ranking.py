@@ -7,10 +7,16 @@ range of demands even when the demands repeat with an even period (a plain
 even/odd split would then hold out only some force levels); a held-out cycle
 never contributes to any fit.  At least four cycles are needed (two held out).
 
-**Current timing.**  The sample timing of the current (:mod:`.residuals`) is
-fitted first on the calibration cycles with the nominal twin (the "before"
-model, :attr:`Scorer.base`) and refitted with every effect; being in both it
-is not counted in the penalty.
+**Acquisition nuisances.**  The sample timing of the current tau (within one
+sample) and the quadrature rule of the load tau_M (from the left to the right
+rectangle, within half a sample; :mod:`.residuals`) are fitted first on the
+calibration cycles with the nominal twin (the "before" model,
+:attr:`Scorer.base`) and refitted with every effect; being in both they are not
+counted in the penalty.  So an effect is declared only when it explains the data
+better than the nominal twin under its *best* admissible acquisition: structure
+that a different sampling or integration rule of the same physics could
+produce is never attributed to the unit (the false positives of a simulator
+stepping at the recording rate came from exactly such structure).
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
 residual R_F (:mod:`.residuals`), divided by their block noise: z = R / sigma.
