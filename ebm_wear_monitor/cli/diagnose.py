@@ -15,15 +15,10 @@ with the wear model's (issue 7 item 5).
 from __future__ import annotations
 
 import argparse
-import json
-import math
-import os
-import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.outputs import write_json
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -39,36 +34,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="self-test: reduced case set (CI)")
     parser.add_argument("--cases", type=int, metavar="N", help="self-test: at most N cases")
     parser.add_argument("--seed", type=int, default=0, help="self-test: base random seed")
-
-
-def _finite(obj: object) -> object:
-    """``obj`` with every non-finite float (and numpy scalar) made JSON-safe: NaN/inf become null."""
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    return obj
-
-
-def write_json(path: str | Path, obj: dict) -> None:
-    """Write ``obj`` as JSON atomically (temp file in the same directory, then rename)."""
-    path = Path(path)
-    if not path.parent.is_dir():
-        raise InputError(f"--json: directory {path.parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(_finite(obj), fh, indent=1, allow_nan=False)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def _print_diagnosis(res: dict) -> None:
