@@ -10,7 +10,7 @@ by-stamp merge of the same messages must do).
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -48,7 +48,9 @@ def _run(unit, data: dict[str, np.ndarray], chunk: int) -> tuple[float, int, int
 
 
 def main() -> None:
-    applications = int(sys.argv[1]) if len(sys.argv) > 1 else 100
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("applications", type=int, nargs="?", default=100, help="brake applications simulated")
+    applications = parser.parse_args().applications
     unit = load_unit()
     sim = simulate_unit(unit, applications, seed=1)
     data = {"t": sim.t, "angle": sim.angle, "velocity": sim.velocity, "axial_force": sim.axial_force}
