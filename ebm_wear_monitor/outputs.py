@@ -1,6 +1,8 @@
 """Writing results so that nothing is ever half-written: temporary sibling, then an atomic rename.
 
-Shared by every command that writes files (JSON, Parquet, reports, unit files).
+Shared by every command that writes files (JSON, Parquet, reports, unit files). A destination
+that cannot be written (its parent is a file, no permission, the path is a directory) is an
+:class:`~ebm_wear_monitor.errors.InputError` with a one-line reason, so the CLI exits with status 2.
 """
 
 from __future__ import annotations
@@ -14,17 +16,30 @@ from pathlib import Path
 
 import numpy as np
 
+from ebm_wear_monitor.errors import InputError
+
+
+def _unwritable(path: Path, exc: OSError) -> InputError:
+    return InputError(f"{path}: cannot write there ({exc.strerror or exc})")
+
 
 def atomic_write(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
     """Call ``write(tmp)`` on a temporary file next to ``path``, then rename it onto ``path``."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    if path.is_dir():
+        raise InputError(f"{path}: is a directory, expected a file name")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    except OSError as exc:
+        raise _unwritable(path, exc) from exc
     os.close(fd)
     tmp = Path(name)
     try:
         write(tmp)
         tmp.replace(path)
+    except OSError as exc:
+        raise _unwritable(path, exc) from exc
     finally:
         tmp.unlink(missing_ok=True)
     return path
@@ -58,12 +73,17 @@ def publish_directory(build: Callable[[Path], object], target: str | os.PathLike
     so a reader never sees a half-written file and the page never links missing images.
     """
     target = Path(target)
-    target.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    except OSError as exc:
+        raise _unwritable(target, exc) from exc
     try:
         build(tmp)
         for src in sorted(tmp.iterdir(), key=lambda p: p.name == "index.html"):
             src.replace(target / src.name)
+    except OSError as exc:
+        raise _unwritable(target, exc) from exc
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return target

@@ -95,3 +95,20 @@ def test_bad_inputs_exit_2(tmp_path, capsys, args):
     assert main(["calc", *args, "--json", str(out)]) == 2
     assert capsys.readouterr().err.startswith("ebm-wear calc: error:")
     assert not out.exists()
+
+
+@pytest.mark.parametrize("where", ["a_file/out.json", "a_dir"])
+def test_unwritable_json_destination_exits_2_with_one_line(tmp_path, capsys, where):
+    (tmp_path / "a_file").write_text("not a directory")
+    (tmp_path / "a_dir").mkdir()
+    target = tmp_path / where
+    argv = ["calc", "contact", "--params", "embu_000", "--axial-force", "100", "--json", str(target)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("ebm-wear calc: error:") and str(target) in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_dir", "a_file"]  # no temporary file left
+    assert list((tmp_path / "a_dir").iterdir()) == []
+
+
+def test_json_into_missing_directory_creates_it(tmp_path):
+    assert run_json(tmp_path / "new" / "sub", "contact", "--params", "embu_000", "--normal-load", "200")
