@@ -8,6 +8,10 @@ and a topic with no namespace (``/screw/angle``) to unit ``/``.
 
 from __future__ import annotations
 
+import re
+
+from ebm_wear_monitor.errors import InputError
+
 #: signal name -> topic name relative to the unit's namespace
 INPUT_TOPICS: dict[str, str] = {
     "angle": "screw/angle",          # rad, unwrapped, positive in the apply direction
@@ -20,6 +24,19 @@ INPUT_TOPICS: dict[str, str] = {
 def namespace_of(unit: str) -> str:
     """Normalised namespace: leading '/', no trailing '/' (the root namespace is '/')."""
     return "/" + unit.strip("/")
+
+
+#: a ROS 2 namespace: '/' or '/'-separated tokens of letters, digits and '_', none starting with a digit
+_NAMESPACE = re.compile(r"/|(/[A-Za-z_][A-Za-z0-9_]*)+")
+
+
+def check_namespace(unit: str) -> str:
+    """``unit`` normalised by :func:`namespace_of`; InputError unless it is a valid ROS 2 namespace."""
+    ns = namespace_of(unit)
+    if not _NAMESPACE.fullmatch(ns):
+        raise InputError(f"{unit!r} is not a ROS 2 namespace (tokens of letters, digits and '_', "
+                         "not starting with a digit, separated by '/')")
+    return ns
 
 
 def topic_name(unit: str, signal: str) -> str:

@@ -24,7 +24,7 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 
 from ebm_wear_monitor.bagio.cdr import encode_float64_stamped
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE
-from ebm_wear_monitor.bagio.topics import INPUT_TOPICS, topic_name
+from ebm_wear_monitor.bagio.topics import INPUT_TOPICS, check_namespace, topic_name
 from ebm_wear_monitor.bagio.types import FLOAT64_STAMPED, typestore
 from ebm_wear_monitor.errors import InputError
 
@@ -82,6 +82,7 @@ def write_unit_bag(
         raise InputError(f"{path} exists already; not overwriting a bag")
     topics: list[tuple[str, Series]] = []
     for ns, signals in signals_by_namespace.items():
+        check_namespace(ns)
         unit_t = t.get(ns) if isinstance(t, Mapping) else t
         for signal, value in signals.items():
             if signal not in INPUT_TOPICS:
@@ -93,8 +94,11 @@ def write_unit_bag(
     records = [r for _, s in topics for r in encode_float64_stamped(s.stamps, s.values, frame_id)]
     received_ns = np.concatenate([np.rint(s.received * 1e9).astype(np.int64) for _, s in topics]
                                  or [np.empty(0, np.int64)])
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write a bag there ({exc.strerror or exc})") from exc
     try:
         with Writer(tmp / path.name, version=9, storage_plugin=STORAGES[storage]) as writer:
             conns = [writer.add_connection(name, FLOAT64_STAMPED, typestore=typestore())

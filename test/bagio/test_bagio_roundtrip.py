@@ -213,11 +213,14 @@ def test_writer_refuses_existing_and_leaves_nothing_on_bad_input(tmp_path):
     assert read_ground_truth(tmp_path / "bag") == truth
     with pytest.raises(InputError, match="exists"):
         write_unit_bag(tmp_path / "bag", t, {"/e": {"angle": t}})
-    for bad in ({"/e": {"torque": t}}, {"/e": {"angle": t[:2]}}):
+    for bad in ({"/e": {"torque": t}}, {"/e": {"angle": t[:2]}}, {"/bad ns": {"angle": t}},
+                {"/car/2embu": {"angle": t}}, {"/a//b": {"angle": t}}):
         with pytest.raises(InputError):
             write_unit_bag(tmp_path / "new", t, bad, storage="sqlite3")
     with pytest.raises(InputError, match="storage"):
         write_unit_bag(tmp_path / "new", t, {"/e": {"angle": t}}, storage="rosbag1")
+    with pytest.raises(InputError, match="cannot write"):
+        write_unit_bag(tmp_path / "bag" / "metadata.yaml" / "new", t, {"/e": {"angle": t}})
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]
     assert read_ground_truth(tmp_path / "bag-none") is None
 
