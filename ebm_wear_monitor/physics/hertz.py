@@ -68,13 +68,6 @@ def deformation(q: ArrayLike, sum_rho: ArrayLike, gamma: ArrayLike, e_red: float
     return f / 2.0 * np.cbrt(sum_rho / e * (3.0 * q / (np.pi * e_red * kap)) ** 2)
 
 
-def load_from_deformation(delta: ArrayLike, sum_rho: ArrayLike, gamma: ArrayLike, e_red: float) -> NDArray:
-    """Inverse of 000 eq. 1: normal load q [N] giving approach delta [m] (0 for delta <= 0)."""
-    f, e, kap = ellipk_fit(gamma), ellipe_fit(gamma), ellipticity_fit(gamma)
-    d = np.maximum(np.asarray(delta, dtype=float), 0.0)
-    return np.pi * e_red * kap / 3.0 * np.sqrt((2.0 * d / f) ** 3 * e / sum_rho)
-
-
 def semi_axes(q: ArrayLike, sum_rho: ArrayLike, gamma: ArrayLike, e_red: float) -> tuple[NDArray, NDArray]:
     """Hertz semi-axes (a, b) [m] with the fits of 000 eq. 2-4 (a across the groove, a >= b)."""
     e, kap = ellipe_fit(gamma), ellipticity_fit(gamma)
