@@ -5,7 +5,9 @@ armature voltage through the drive's limits (:func:`.dynamics.limit_voltage`):
 
 1. ``clearance_elimination``: full supply voltage, the screw runs up to its top
    speed and closes the clearance; ends when the measured force exceeds
-   ``onset_force``.
+   ``onset_force``, or after ``clearance_timeout`` (a force sensor biased so far
+   down that it never reads the onset force would otherwise keep the run going
+   for ever).
 2. ``force_generation``: force control towards the demanded clamp force
    ``F_d``: ``E = E_ff + k_F (F_d - F_meas) - k_ω ω``, with the feed-forward
    ``E_ff = R (T_L(F_d) + T_fc + G F_d) / K_T`` that holds ``F_d`` against
@@ -50,6 +52,9 @@ class BrakeController:
     """Gains and thresholds of the brake controller (SI units, motor-shaft speeds)."""
 
     onset_force: float = 200.0  # measured force that ends clearance elimination [N]
+    # longest clearance elimination [s]: embu_000 closes its 0.2 mm in about 0.04 s at full voltage,
+    # so 5 s covers clearances up to about 25 mm (50 times the clearance limit) with margin
+    clearance_timeout: float = 5.0
     loop_stiffness: float = 15.0  # K_loop, force-loop stiffness at the motor shaft [N m / rad]
     speed_damping: float = 0.05  # k_ω [V s / rad]
     force_tolerance: float = 0.01  # settled when |F - F_d| <= max(this * F_d, 50 N) [-]
@@ -117,7 +122,7 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
         stuck = np.abs(speed) <= model.zero_speed_band
         # phase transitions, decided on the sample just taken
         nxt = phase.copy()
-        nxt[(phase == CLEARANCE) & (measured > c.onset_force)] = GENERATION
+        nxt[(phase == CLEARANCE) & ((measured > c.onset_force) | (since >= c.clearance_timeout))] = GENERATION
         settled = stuck & (measured >= demands - settle_band)
         nxt[(phase == GENERATION) & (settled | (since >= c.generation_timeout))] = MAINTENANCE
         nxt[(phase == MAINTENANCE) & (since >= holds)] = RELEASE

@@ -176,3 +176,17 @@ def test_slow_recording_is_the_1kHz_drive_decimated():
     for name in ("angle", "axial_force", "current"):
         assert np.array_equal(slow.clean[name], fast.clean[name][::10])
     assert np.array_equal(slow.phase, fast.phase[::10])
+
+
+def test_sensor_that_never_reads_the_onset_force_still_ends_every_application():
+    """A force sensor biased far below the onset force: clearance elimination ends at its timeout
+    (it used to run for ever) and the application goes through every phase in order."""
+    from ebm_wear_monitor.twin.controller import BrakeController
+    controller = BrakeController(clearance_timeout=0.2)
+    run = simulate_unit(UNIT, 1, demands=[10e3], effects={"force_sensor_bias": -1e6}, controller=controller,
+                        **KW)
+    phase = run.phase
+    order = [CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE]
+    assert phase[np.r_[True, np.diff(phase) != 0]].tolist() == order
+    assert run.truth["phase_start_s"][0, GENERATION] == pytest.approx(0.2, abs=2e-3)
+    assert np.all(np.isfinite(run.clean["axial_force"]))
