@@ -301,6 +301,8 @@ def load_unit(path: str | Path | None = None) -> UnitParams:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ParamError(f"{path}: cannot read unit file ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise ParamError(f"{path}: not a UTF-8 text file") from None
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:

@@ -36,7 +36,7 @@ def load_monitor_config(path: str | os.PathLike) -> MonitorConfig:
     path = Path(path)
     try:
         data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{path}: unreadable config: {' '.join(str(exc).split())}") from exc
     if not isinstance(data, dict):
         raise InputError(f"{path}: expected a mapping of parameters")

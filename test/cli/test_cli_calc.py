@@ -112,3 +112,11 @@ def test_unwritable_json_destination_exits_2_with_one_line(tmp_path, capsys, whe
 
 def test_json_into_missing_directory_creates_it(tmp_path):
     assert run_json(tmp_path / "new" / "sub", "contact", "--params", "embu_000", "--normal-load", "200")
+
+
+def test_binary_unit_file_exits_2_with_one_line(tmp_path, capsys):
+    unit = tmp_path / "unit.yaml"
+    unit.write_bytes(b"\xff\xfe\x00garbage")
+    assert main(["calc", "contact", "--params", str(unit), "--axial-force", "100"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(unit) in err

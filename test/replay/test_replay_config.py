@@ -45,3 +45,10 @@ def test_thresholds_reach_the_core(tmp_path):
     assert default["duty_cycles"] == 2
     assert strict["duty_cycles"] == 0
     assert strict["input_faults"]["absurd"] > 0
+
+
+def test_binary_file_is_a_named_input_error(tmp_path):
+    path = tmp_path / "binary.yaml"
+    path.write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(InputError, match=str(path)):
+        load_monitor_config(path)
