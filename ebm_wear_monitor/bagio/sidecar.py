@@ -41,4 +41,11 @@ def read_ground_truth(bag: str | os.PathLike) -> dict | None:
         raise InputError(f"{path}: unreadable ground truth: {exc}") from exc
     if not isinstance(truth, dict) or not isinstance(truth.get("units"), dict):
         raise InputError(f"{path}: ground truth has no 'units' mapping")
+    for unit, entry in truth["units"].items():
+        if not isinstance(entry, dict):
+            raise InputError(f"{path}: ground truth of {unit} is not a mapping")
+        for key in ("eol_cycles", "cycles_at_start", "clearance_limit_m"):
+            value = entry.get(key)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                raise InputError(f"{path}: ground truth {unit} {key}: expected a number, got {value!r}")
     return truth

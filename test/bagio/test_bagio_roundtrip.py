@@ -257,3 +257,13 @@ def test_reading_leaves_the_garbage_collector_as_it_found_it(tmp_path):
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+@pytest.mark.parametrize("text", ['{"units": {"/e": 5}}', '{"units": {"/e": {"eol_cycles": "soon"}}}',
+                                  '{"units": {"/e": {"cycles_at_start": true}}}', '{"units": []}', "{"])
+def test_malformed_ground_truth_is_a_one_line_input_error(tmp_path, text):
+    (tmp_path / "bag").mkdir()
+    (tmp_path / "bag" / "ground_truth.json").write_text(text)
+    with pytest.raises(InputError, match=r"ground_truth\.json") as err:
+        read_ground_truth(tmp_path / "bag")
+    assert "\n" not in str(err.value)
