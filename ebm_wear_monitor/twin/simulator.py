@@ -193,8 +193,9 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     dt = 1.0 / (rate_hz * keep)
     core = _wear_core(unit, wear_method) if wear else None
 
-    def growth(total: np.ndarray) -> float:
-        return float(core[1](unit, *total)) if core is not None else 0.0
+    def growth(total: np.ndarray) -> np.ndarray:
+        """Clearance growth [m] from wear depths [m] (screw, nut, ball) of shape (3,) or (3, k)."""
+        return core[1](unit, *total) if core is not None else np.zeros(np.shape(total)[1:])
 
     def run(model: ActuatorModel, lo: int, hi: int) -> ClosedLoopRecord:
         return run_duty_cycles(model, demand_seq[lo:hi], hold_seq[lo:hi], rest=rest_s, rate_hz=1.0 / dt,
@@ -220,14 +221,14 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     bounds = [0, 1] if core is not None else [0]
     bounds = sorted({*bounds, *range(bounds[-1] + batch, cycles, batch), cycles})
     for lo, hi in itertools.pairwise(bounds):
-        start = base_clearance + growth(total)
+        start = base_clearance + float(growth(total))
         clearance = start + step * np.arange(hi - lo)
         record = run(with_clearance(clearance), lo, hi)
         if core is not None:
             increments = _cycle_wear(core[0], record, plant.gear_ratio, dt) * wear_acceleration
             # the clearance each application really starts with, from the wear of the ones before it
             before = total[:, None] + np.cumsum(increments, axis=1) - increments
-            exact = np.array([base_clearance + growth(before[:, i]) for i in range(hi - lo)])
+            exact = base_clearance + growth(before)
             if np.max(np.abs(exact - clearance)) > CLEARANCE_TOLERANCE_M:
                 clearance = exact  # the extrapolation missed (demands of unequal wear): one corrective pass
                 record = run(with_clearance(clearance), lo, hi)
@@ -236,7 +237,7 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
         clearance_during[lo:hi] = clearance
         if core is not None:
             total = wear_after[:, hi - 1].copy()
-            clearance_after[lo:hi] = [base_clearance + growth(wear_after[:, i]) for i in range(lo, hi)]
+            clearance_after[lo:hi] = base_clearance + growth(wear_after[:, lo:hi])
             step = (clearance_after[hi - 1] - start) / (hi - lo)
         else:
             clearance_after[lo:hi] = clearance
