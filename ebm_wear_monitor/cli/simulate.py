@@ -57,11 +57,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.bagio import write_unit_bag
+    from ebm_wear_monitor.bagio.topics import check_namespace
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.twin import NOISELESS, SensorNoise, simulate_unit
 
     if Path(args.out).exists():
         raise InputError(f"{args.out} exists already; not overwriting a bag")
+    # normalised ('embu' -> '/embu'), so the ground-truth key is the unit name readers derive from topics
+    namespace = check_namespace(args.namespace)
     unit = load_unit(args.params)
     effects: dict[str, float] = {}
     for name, magnitude in args.effect:
@@ -73,14 +76,14 @@ def run(args: argparse.Namespace) -> int:
         wear_acceleration=args.wear_acceleration, hold_s=args.hold, rest_s=args.rest,
         noise=NOISELESS if args.no_noise else SensorNoise(), prior_cycles=args.prior_cycles,
         progress=sys.stderr.isatty() and args.cycles >= 20)
-    truth = {"units": {args.namespace: result.ground_truth()},
+    truth = {"units": {namespace: result.ground_truth()},
              "simulator": {"unit": unit.name, "params_digest": unit.digest(),
                            "wear_acceleration_note": "wear increments multiplied by wear_acceleration"}}
-    count = write_unit_bag(args.out, result.t, {args.namespace: result.signals()}, storage=args.storage,
+    count = write_unit_bag(args.out, result.t, {namespace: result.signals()}, storage=args.storage,
                            ground_truth=truth)
     tr = result.truth
     seconds = result.t[-1] + 1.0 / args.rate
     print(f"{args.out}: {args.cycles} applications, {seconds:.2f} s at {args.rate:g} Hz, "
-          f"{count} messages under {args.namespace}; clearance {tr['clearance_m'][0] * 1e3:.4f} -> "
+          f"{count} messages under {namespace}; clearance {tr['clearance_m'][0] * 1e3:.4f} -> "
           f"{tr['clearance_after_m'][-1] * 1e3:.4f} mm (wear acceleration x{args.wear_acceleration:g})")
     return 0

@@ -40,6 +40,7 @@ def test_simulate_writes_bag_and_truth(tmp_path, storage, capsys):
     (["--rate", "1"], "rate"),
     (["--demand", "-5"], "demands"),
     (["--params", "/no/such/file.yaml"], "cannot read"),
+    (["--namespace", "/car 3/embu"], "not a ROS 2 namespace"),
 ])
 def test_simulate_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, argv, message):
     out = tmp_path / "bag"
@@ -54,3 +55,11 @@ def test_simulate_refuses_to_overwrite(tmp_path, capsys):
     out.mkdir()
     assert main(["simulate", "--cycles", "1", "--hold", "0.1", "--out", str(out)]) == 2
     assert "exists" in capsys.readouterr().err
+
+
+def test_namespace_without_leading_slash_keeps_its_ground_truth(tmp_path):
+    """The ground truth is keyed by the unit name readers derive from the topics ('/embu', not 'embu')."""
+    out = tmp_path / "bag"
+    argv = ["simulate", "--cycles", "1", "--hold", "0.1", "--rest", "0.1", "--rate", "200", "--no-noise"]
+    assert main([*argv, "--namespace", "train1/embu2/", "--out", str(out)]) == 0
+    assert list(read_bags([out]).units) == list(read_ground_truth(out)["units"]) == ["/train1/embu2"]
