@@ -203,7 +203,11 @@ def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], obje
     """
     recording = Recording()
     bags = []
+    seen: set[Path] = set()
     for p in paths:
+        if Path(p).resolve() in seen:  # its messages would be fed twice, as duplicates and late ones
+            raise InputError(f"{p}: bag given twice")
+        seen.add(Path(p).resolve())
         try:
             bags.append(_read_bag(Path(p), recording.rejected, progress))
         except InputError as exc:

@@ -139,6 +139,8 @@ def test_receive_order_is_kept_and_bags_of_a_unit_concatenate_in_time_order(tmp_
     order = np.argsort(received, kind="stable")
     assert np.array_equal(sig.values[len(t):], order.astype(float))
     assert np.allclose(sig.stamps[len(t):], t[order], rtol=0, atol=1e-9)  # stamps carry whole ns
+    with pytest.raises(InputError, match="given twice"):  # the same bag under another spelling
+        read_bags([tmp_path / "a_early", tmp_path / "b_late" / ".." / "a_early"])
 
 
 def test_topic_names_map_to_units():
