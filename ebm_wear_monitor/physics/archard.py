@@ -56,6 +56,9 @@ def ball_rate(screw_rate: ArrayLike, nut_rate: ArrayLike, raceway_share: float) 
 def clearance_growth(unit: UnitParams, screw_m: ArrayLike, nut_m: ArrayLike, ball_m: ArrayLike) -> NDArray:
     """Axial clearance growth dx = (h_s + h_n + 2 h_b) / (sin(alpha_0) cos(phi)) [m] from wear depths [m].
 
+    Not an equation of 000 (which names the clearance growth only, Sec. 2): the axial projection of
+    the normal as in 000 eq. 5, derived in the module docstring.
+
     ``ball_m`` is the ball radius loss (one side), as :class:`WearRates.ball` integrates to.
     """
     bs = unit.ball_screw

@@ -68,7 +68,8 @@ def softer_poisson(unit: UnitParams, side: str) -> float:
 
 def solve(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
           options: ModelOptions) -> tuple[Equilibrium, SideState, SideState]:
-    """Equilibrium plus screw and nut contact states for loaded samples (F_a > 0, finite)."""
+    """Fig. 6 equilibrium (000 eq. 1-5, 8-18) plus screw and nut contact states (000 eq. 6-7, 19-23)
+    for loaded samples: axial force F_a [N] > 0 and screw speed omega_s [rad/s], both finite."""
     geo = ScrewGeometry.from_unit(unit)
     eq = solve_equilibrium(unit, axial_force, omega_s, options, geo)
     return eq, side_state(unit, geo, eq, SCREW, options), side_state(unit, geo, eq, NUT, options)

@@ -40,7 +40,10 @@ def viscous_drag(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, e_
 
 def film_thickness(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, e_red: float,
                    viscosity: float, pressure_viscosity: float) -> NDArray:
-    """Hamrock-Dowson central film thickness h_c [m] (0 at zero speed)."""
+    """Hamrock-Dowson central film thickness h_c [m] (0 at zero speed), for F_aN left open by 000 eq. 14.
+
+    ``h_c = 2.69 R U^0.67 G^0.53 W^-0.067 (1 - 0.61 exp(-0.73 k))`` with the groups of the module docstring.
+    """
     e1 = 2.0 * e_red
     q = np.maximum(np.asarray(q, dtype=float), 1e-30)
     u = np.abs(np.asarray(u, dtype=float))
@@ -49,7 +52,8 @@ def film_thickness(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, 
 
 
 def asperity_share(film: ArrayLike, roughness: float) -> NDArray:
-    """psi = F_aN / Q: 1 in boundary lubrication, 0 from Lambda = h_c / R_A >= 3 (linear between)."""
+    """psi = F_aN / Q of 000 eq. 14: 1 in boundary lubrication, 0 from Lambda = h_c / R_A >= 3 (linear
+    between) [-]; ``film`` h_c [m], ``roughness`` R_A [m]."""
     return np.clip(1.0 - np.asarray(film) / (FULL_FILM_LAMBDA * roughness), 0.0, 1.0)
 
 

@@ -114,7 +114,8 @@ def actuator_model(unit: UnitParams, clearance: float | None = None) -> Actuator
 
 def limit_voltage(model: ActuatorModel, voltage: np.ndarray, speed: np.ndarray) -> np.ndarray:
     """Armature voltage the drive can apply: within ±E_amax, and such that the current it
-    settles to, ``(E - K_E ω) / R``, stays within ±I_max (a voltage-side current limiter) [V]."""
+    settles to, ``(E - K_E ω) / R`` (004 eq. 8 at steady current), stays within ±I_max (a voltage-side
+    current limiter) [V]; ``speed`` ω is the motor speed [rad/s]."""
     v = np.clip(voltage, -model.supply_voltage, model.supply_voltage)
     emf = model.back_emf_constant * speed
     headroom = model.resistance * model.current_limit
