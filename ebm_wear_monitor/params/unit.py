@@ -173,8 +173,8 @@ def _section(data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
 
 
 def _number(sec: dict[str, Any], key: str, where: str, *, required: bool = True,
-            positive: bool = True, lo: float | None = None, hi: float | None = None,
-            default: float | None = None) -> float | None:
+            positive: bool = True, nonnegative: bool = False, lo: float | None = None,
+            hi: float | None = None, default: float | None = None) -> float | None:
     if key not in sec or sec[key] is None:
         if required:
             raise ParamError(f"{where}: missing key '{key}'")
@@ -190,6 +190,8 @@ def _number(sec: dict[str, Any], key: str, where: str, *, required: bool = True,
         raise ParamError(f"{where}.{key}: must be finite, got {value!r}")
     if positive and number <= 0.0:
         raise ParamError(f"{where}.{key}: must be > 0, got {number:g}")
+    if nonnegative and number < 0.0:
+        raise ParamError(f"{where}.{key}: must be >= 0, got {number:g}")
     if lo is not None and number <= lo:
         raise ParamError(f"{where}.{key}: must be > {lo:g}, got {number:g}")
     if hi is not None and number > hi:
@@ -245,8 +247,9 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
     )
     lubricant = _build(Lubricant, _section(data, "lubricant", where), f"{where}: lubricant",
                        {"viscosity": {}, "pressure_viscosity": {}})
+    at_least_zero = {"positive": False, "nonnegative": True}
     wear = _build(WearParams, _section(data, "wear", where), f"{where}: wear", {
-        "k_slip": {}, "raceway_share": {"hi": 1.0}, "boundary_friction": {"positive": False, "lo": -1e-300},
+        "k_slip": {}, "raceway_share": {"hi": 1.0}, "boundary_friction": at_least_zero,
     })
 
     actuator = None
@@ -259,9 +262,8 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
                 "inductance": {}, "inertia": {},
                 "continuous_stall_torque": {"required": False, "default": Motor.continuous_stall_torque}}),
             friction=_build(Friction, _section(act, "friction", wa), f"{wa}.friction", {
-                "static": {"positive": False, "lo": -1e-300}, "coulomb": {"positive": False, "lo": -1e-300},
-                "viscous": {"positive": False, "lo": -1e-300},
-                "load_coefficient": {"positive": False, "lo": -1e-300}}),
+                "static": at_least_zero, "coulomb": at_least_zero, "viscous": at_least_zero,
+                "load_coefficient": at_least_zero}),
             **{k: _number(act, k, wa) for k in (
                 "gear_ratio", "screw_inertia", "gear_inertia", "nut_mass", "clearance", "stiffness")},
             **{k: _number(act, k, wa, required=False, default=getattr(Actuator, k))
