@@ -23,6 +23,20 @@ def _unwritable(path: Path, exc: OSError) -> InputError:
     return InputError(f"{path}: cannot write there ({exc.strerror or exc})")
 
 
+def check_destination(path: str | os.PathLike | None, option: str, *, directory: bool = False) -> None:
+    """Before any work is done: InputError (one line) if ``path`` cannot become a file (with
+    ``directory``: a directory), because it exists as the other kind or an ancestor is a file."""
+    if path is None:
+        return
+    path = Path(path)
+    wanted, other = ("directory", "file") if directory else ("file path", "directory")
+    if path.exists() and path.is_dir() != directory:
+        raise InputError(f"{option} {path}: is a {other}, expected a {wanted}")
+    ancestor = next((p for p in path.parents if p.exists()), None)
+    if ancestor is not None and not ancestor.is_dir():
+        raise InputError(f"{option} {path}: {ancestor} is a file, not a directory")
+
+
 def atomic_write(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
     """Call ``write(tmp)`` on a temporary file next to ``path``, then rename it onto ``path``."""
     path = Path(path)

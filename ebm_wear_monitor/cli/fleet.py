@@ -48,11 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _check(args: argparse.Namespace) -> None:
-    from ebm_wear_monitor.cli.replay import check_output_file
+    from ebm_wear_monitor.outputs import check_destination
 
-    check_output_file(args.json, "--json")
-    if Path(args.out).is_file():
-        raise InputError(f"--out {args.out}: is a file, expected a directory")
+    check_destination(args.json, "--json")
+    check_destination(args.out, "--out", directory=True)
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if args.scheduler and not args.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):

@@ -13,8 +13,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from ebm_wear_monitor.errors import InputError
-
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Arguments of ``ebm-wear replay``."""
@@ -27,12 +25,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="OUT", help="write the replay JSON (interface.md section 4) here")
     parser.add_argument("--report", metavar="DIR", help="write an HTML report with PNG plots into DIR")
     parser.add_argument("--no-progress", action="store_true", help="no progress bars on stderr")
-
-
-def check_output_file(path: str | None, option: str) -> None:
-    """Reject an output path that is an existing directory (before any work is done)."""
-    if path is not None and Path(path).is_dir():
-        raise InputError(f"{option} {path}: is a directory, expected a file path")
 
 
 def format_unit(entry: dict) -> str:
@@ -70,15 +62,14 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from ebm_wear_monitor.bagio import bag_message_count
-    from ebm_wear_monitor.outputs import write_json
+    from ebm_wear_monitor.outputs import check_destination, write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
     from ebm_wear_monitor.replay.report import write_replay_report
     from ebm_wear_monitor.replay.run import replay_bags
 
-    check_output_file(args.json, "--json")
-    if args.report is not None and Path(args.report).is_file():
-        raise InputError(f"--report {args.report}: is a file, expected a directory")
+    check_destination(args.json, "--json")
+    check_destination(args.report, "--report", directory=True)
     params = load_unit(args.params)
     config = load_monitor_config(args.config) if args.config else None
     total = bag_message_count(args.bags)

@@ -47,16 +47,18 @@ def test_bad_input_exits_2(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("ebm_wear_monitor.fleet.cluster.CONNECT_TIMEOUT_S", 1.0)
     (tmp_path / "exists").mkdir()
     (tmp_path / "empty").mkdir()
+    (tmp_path / "afile").write_text("a file, not a directory")
     out = tmp_path / "out"
     cases = [["fleet", str(tmp_path / "missing"), "--out", str(out)],
              ["fleet", str(tmp_path / "exists"), "--generate", "2", "--out", str(out)],
              ["fleet", str(tmp_path / "exists"), "--scheduler", "127.0.0.1:1", "--out", str(out)],
              ["fleet", str(tmp_path / "exists"), "--scheduler", "tcp://127.0.0.1:1", "--out", str(out)],
              ["fleet", str(tmp_path / "empty"), "--workers", "0", "--out", str(out)],
-             ["fleet", str(tmp_path / "exists"), "--json", str(tmp_path / "exists"), "--out", str(out)]]
+             ["fleet", str(tmp_path / "exists"), "--json", str(tmp_path / "exists"), "--out", str(out)],
+             ["fleet", str(tmp_path / "new"), "--generate", "1", "--out", str(tmp_path / "afile" / "out")]]
     for argv in cases:
         assert main([*argv, "--no-progress"]) == 2, argv
         err = capsys.readouterr().err.strip()
         assert err.startswith("ebm-wear fleet: error:"), err
         assert "\n" not in err
-    assert not out.exists()
+    assert not out.exists() and not (tmp_path / "new").exists()

@@ -38,9 +38,12 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, bag, capsy
     write_unit_bag(tmp_path / "no_inputs", t, {"/embu": {"current": t}})
     (tmp_path / "adir").mkdir()
     out = tmp_path / "out.json"
+    a_file = tmp_path / "no_inputs" / "metadata.yaml"
     cases = [["replay", str(tmp_path / "missing"), "--json", str(out)],
              ["replay", str(bag), str(tmp_path / "adir"), "--json", str(out)],
              ["replay", str(bag), "--json", str(tmp_path / "adir")],
+             ["replay", str(bag), "--json", str(a_file / "x.json")],
+             ["replay", str(bag), "--json", str(out), "--report", str(a_file)],
              ["replay", str(bag), "--params", str(tmp_path / "nope.yaml"), "--json", str(out)]]
     for argv in cases:
         assert main([*argv, "--no-progress"]) == 2, argv
