@@ -58,11 +58,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.bagio import write_unit_bag
     from ebm_wear_monitor.bagio.topics import check_namespace
+    from ebm_wear_monitor.outputs import check_destination
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.twin import NOISELESS, SensorNoise, simulate_unit
 
     if Path(args.out).exists():
         raise InputError(f"{args.out} exists already; not overwriting a bag")
+    check_destination(args.out, "--out", directory=True)  # before simulating, not after
     # normalised ('embu' -> '/embu'), so the ground-truth key is the unit name readers derive from topics
     namespace = check_namespace(args.namespace)
     unit = load_unit(args.params)

@@ -50,6 +50,12 @@ def test_simulate_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, argv, m
     assert not out.exists() and list(tmp_path.iterdir()) == []
 
 
+def test_simulate_checks_its_destination_before_simulating(tmp_path, capsys):
+    (tmp_path / "afile").write_text("a file, not a directory")
+    assert main(["simulate", "--cycles", "1", "--out", str(tmp_path / "afile" / "bag")]) == 2
+    assert "afile is a file" in capsys.readouterr().err
+
+
 def test_simulate_refuses_to_overwrite(tmp_path, capsys):
     out = tmp_path / "bag"
     out.mkdir()
