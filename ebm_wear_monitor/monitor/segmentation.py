@@ -59,6 +59,13 @@ on whole-segment arrays, so feeding one sample at a time or everything at once
 gives the same segments bit for bit. The event loop visits transitions, not
 samples: each step is a binary search in index arrays precomputed per batch
 (speed conditions) or per window and rest level (force conditions).
+
+Offline users that need a label on *every* sample (e.g. a sim-to-real diagnosis:
+rest angle from the idle samples, stick branch of 004 eq. 9 from maintenance)
+call :func:`label_samples`: the same state machine and thresholds run once over
+the whole recording, and the stretches it consumes (every sample of every
+segment, moving or not) are recorded as index spans; samples outside any
+segment are ``REST``. The monitor's own path does not record them.
 """
 
 from __future__ import annotations
@@ -67,7 +74,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ebm_wear_monitor.monitor.alignment import AlignedBatch
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.monitor.alignment import AlignedBatch, stamps_to_ns
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
@@ -391,3 +399,61 @@ class Segmenter:
             return self._settle(p, r, nx("i_notslow", r), out, accept)
         self._consume(p, e, st)
         return e, False
+
+
+@dataclass(frozen=True)
+class SampleLabels:
+    """Phase and application of every sample of a recording (:func:`label_samples`)."""
+
+    phase: np.ndarray  # int8 per sample: REST (-1), CE, FG, FM, FR (0..3, as PHASES) or MOTION (4)
+    cycle: np.ndarray  # int32 per sample: 0-based index of its segment; rest belongs to the segment before
+    kinds: tuple[str, ...]  # Segment.kind of each segment, in order
+    force_baseline: np.ndarray  # rest level b of each segment [N]
+
+    @property
+    def n_segments(self) -> int:
+        return len(self.kinds)
+
+
+class _LabellingSegmenter(Segmenter):
+    """:class:`Segmenter` that also records every consumed stretch [a, b) of batch indices with its label."""
+
+    def __init__(self, config: MonitorConfig, thresholds: Thresholds, force_baseline: float = 0.0):
+        super().__init__(config, thresholds, force_baseline)
+        self.spans: list[tuple[int, int, int]] = []
+
+    def _consume(self, a: int, b: int, label: int) -> None:
+        if b > a:
+            self.spans.append((a, b, label))
+        super()._consume(a, b, label)
+
+
+def label_samples(t: np.ndarray, angle: np.ndarray, velocity: np.ndarray, force: np.ndarray, *,
+                  config: MonitorConfig, thresholds: Thresholds, force_baseline: float = 0.0) -> SampleLabels:
+    """Label every sample of an aligned recording with the state machine of this module.
+
+    ``t``: strictly increasing stamps, int64 ns or float s; ``angle`` [rad], ``velocity`` [rad/s] and
+    ``force`` [N] of the screw at those stamps; ``config`` / ``thresholds`` as for :class:`MonitorCore`
+    (``thresholds = config.resolve(unit)``); ``force_baseline``: rest level b of the force before the
+    first rest is seen [N] (the monitor's persisted value; 0 for a new unit). Consecutive samples more
+    than ``config.gap_s`` apart are a gap, as in the aligner. The samples are fed in one batch with
+    ``final=True``, so the labels are those of the segments :class:`MonitorCore` would integrate.
+    """
+    t_ns, ok = stamps_to_ns(t)
+    n = t_ns.size
+    arrays = [np.asarray(a, dtype=float) for a in (angle, velocity, force)]
+    if any(a.shape != (n,) for a in arrays) or not ok.all():
+        raise InputError("label_samples: stamps must be finite and match the signals in length")
+    dt_ns = np.diff(t_ns)
+    if np.any(dt_ns <= 0):
+        raise InputError("label_samples: stamps must increase strictly")
+    gap = np.concatenate(([False], dt_ns > round(config.gap_s * 1e9)))
+    seg = _LabellingSegmenter(config, thresholds, force_baseline)
+    segments = seg.feed(AlignedBatch(t_ns, *arrays, gap), final=True)
+    phase = np.full(n, REST, np.int8)
+    for a, b, label in seg.spans:  # one entry per phase stretch, not per sample
+        phase[a:b] = label
+    starts = np.searchsorted(t_ns, [s.start_ns for s in segments])
+    cycle = np.maximum(np.searchsorted(starts, np.arange(n), side="right") - 1, 0).astype(np.int32)
+    return SampleLabels(phase, cycle, tuple(s.kind for s in segments),
+                        np.array([s.force_baseline for s in segments], dtype=float))
