@@ -190,3 +190,17 @@ def test_sensor_that_never_reads_the_onset_force_still_ends_every_application():
     assert phase[np.r_[True, np.diff(phase) != 0]].tolist() == order
     assert run.truth["phase_start_s"][0, GENERATION] == pytest.approx(0.2, abs=2e-3)
     assert np.all(np.isfinite(run.clean["axial_force"]))
+
+
+def test_ground_truth_clearance_is_the_wear_law_and_end_of_life_extrapolates_it():
+    """clearance_after_m = x_ag,nominal + clearance_growth(wear_m) (physics core), and eol_cycles is
+    where a least-squares line through it reaches the limit (growth per application nearly constant)."""
+    from ebm_wear_monitor.physics import clearance_growth
+    kw = {"demands": [20e3], "hold_s": 0.2, "rest_s": 0.1, "noise": NOISELESS, "batch": 4}
+    truth = simulate_unit(UNIT, 8, wear_acceleration=1e6, prior_cycles=3, **kw).truth
+    wear, after = truth["wear_m"], truth["clearance_after_m"]
+    growth = clearance_growth(UNIT, wear["screw"], wear["nut"], wear["ball"])
+    assert np.allclose(after, UNIT.actuator.clearance + growth, rtol=1e-12, atol=0)
+    since_new = 3 + np.arange(1, 9)
+    slope, intercept = np.polyfit(since_new, after, 1)
+    assert truth["eol_cycles"] == pytest.approx((truth["clearance_limit_m"] - intercept) / slope, rel=0.01)
