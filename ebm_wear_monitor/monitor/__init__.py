@@ -8,6 +8,9 @@ Public API::
     snap = core.snapshot()                                # MonitorSnapshot; snap.to_json_dict() is the
                                                           # replay JSON entry of interface.md section 4
     save_state(path, core.state); state, problems = load_state(path)
+    labels = label_samples(t, angle, velocity, force, config=cfg, thresholds=cfg.resolve(unit))
+                                                          # every sample of a recording labelled with the
+                                                          # phase and application MonitorCore gives it
 
 See :mod:`.core` for the data flow and :mod:`.config` for every threshold.
 """
@@ -17,7 +20,7 @@ from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter
 from ebm_wear_monitor.monitor.core import CycleSummary, MonitorCore, MonitorSnapshot
 from ebm_wear_monitor.monitor.life import STATUS_INSUFFICIENT, STATUS_LIMIT, STATUS_OK
 from ebm_wear_monitor.monitor.persistence import load_state, save_state
-from ebm_wear_monitor.monitor.segmentation import PHASES
+from ebm_wear_monitor.monitor.segmentation import PHASES, SampleLabels, label_samples
 from ebm_wear_monitor.monitor.state import MonitorState, StateError
 
 __all__ = [
@@ -32,8 +35,10 @@ __all__ = [
     "MonitorCore",
     "MonitorSnapshot",
     "MonitorState",
+    "SampleLabels",
     "StateError",
     "Thresholds",
+    "label_samples",
     "load_state",
     "parameter_specs",
     "ros_stamp_ns",
