@@ -65,6 +65,7 @@ class Equilibrium(NamedTuple):
     axial_approach: NDArray  # theta' R* + delta_a [m]
     motion: BallMotion  # kinematics at the converged angles
     iterations: int  # Fig. 6 iterations used
+    converged: bool = True  # False when max_iter ran out before the change fell below rel_tol
 
 
 def _friction(unit: UnitParams, geo: ScrewGeometry, side: str, *, q: NDArray, alpha: NDArray,
@@ -98,7 +99,7 @@ def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
     delta_n = deformation(q_n, c_n.sum_rho, c_n.gamma, geo.e_n)
     b0 = geo.centre_distance0
     a2 = b0 * math.cos(a0)
-    iterations = 0
+    iterations, change = 0, math.inf
     while iterations < options.max_iter:
         iterations += 1
         motion = ball_motion(geo, w_s, a_s, a_n, reading=options.kinematics, beta=options.beta)
@@ -136,4 +137,5 @@ def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
     l_s = geo.r_s - geo.r_b + delta_s
     l_n = geo.r_n - geo.r_b + delta_n
     approach = l_s * np.sin(a_s) + l_n * np.sin(a_n) - b0 * math.sin(a0)
-    return Equilibrium(a_s, a_n, q_s, q_n, delta_s, delta_n, mu_s, mu_n, approach, motion, iterations)
+    return Equilibrium(a_s, a_n, q_s, q_n, delta_s, delta_n, mu_s, mu_n, approach, motion, iterations,
+                       change < options.rel_tol)

@@ -77,6 +77,10 @@ def wear_report(unit: UnitParams, axial_force: float, speed: float,
     if not math.isfinite(speed):
         raise InputError(f"speed must be finite, got {speed!r}")
     eq, screw, nut = solve(unit, np.array([f]), np.array([abs(speed)]), options)
+    if not eq.converged:
+        raise InputError(f"the Fig. 6 equilibrium did not converge in {options.max_iter} iterations at "
+                         f"{f:g} N, {speed:g} rad/s (friction coefficients mu_s {float(eq.mu_s[0]):.3g}, "
+                         f"mu_n {float(eq.mu_n[0]):.3g}: is wear.boundary_friction plausible?)")
     out: dict[str, Any] = {}
     for side, st in (("screw", screw), ("nut", nut)):
         out[side] = {
