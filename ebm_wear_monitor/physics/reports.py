@@ -80,7 +80,7 @@ def wear_report(unit: UnitParams, axial_force: float, speed: float,
     if not eq.converged:
         raise InputError(f"the Fig. 6 equilibrium did not converge in {options.max_iter} iterations at "
                          f"{f:g} N, {speed:g} rad/s (friction coefficients mu_s {float(eq.mu_s[0]):.3g}, "
-                         f"mu_n {float(eq.mu_n[0]):.3g}: is wear.boundary_friction plausible?)")
+                         f"mu_n {float(eq.mu_n[0]):.3g}): outside the range the model solves")
     out: dict[str, Any] = {}
     for side, st in (("screw", screw), ("nut", nut)):
         out[side] = {
