@@ -109,10 +109,14 @@ def _open(path: Path) -> Reader:
 
 def _storage_identifier(meta: Path) -> str:
     try:
-        info = yaml.safe_load(meta.read_text(encoding="utf-8"))["rosbag2_bagfile_information"]
-        return str(info["storage_identifier"])
-    except Exception as exc:  # unreadable YAML or missing keys: not a usable rosbag2 metadata file
+        data = yaml.safe_load(meta.read_text(encoding="utf-8"))
+    except Exception as exc:  # unreadable file or malformed YAML: not a usable rosbag2 metadata file
         raise InputError(f"{meta}: invalid rosbag2 metadata: {_reason(exc)}") from exc
+    info = data.get("rosbag2_bagfile_information") if isinstance(data, dict) else None
+    if not isinstance(info, dict) or "storage_identifier" not in info:
+        raise InputError(f"{meta}: not a rosbag2 metadata file "
+                         "(no rosbag2_bagfile_information.storage_identifier)")
+    return str(info["storage_identifier"])
 
 
 def _reason(exc: BaseException) -> str:

@@ -197,8 +197,12 @@ def test_bad_bags_raise_one_line_input_errors(tmp_path, storage):
     meta = unknown / "metadata.yaml"
     meta.write_text(meta.read_text().replace(f"storage_identifier: {storage}", "storage_identifier: zip"))
     (tmp_path / "empty").mkdir()
+    garbage = tmp_path / "garbage"
+    garbage.mkdir()
+    (garbage / "metadata.yaml").write_text("- a list, not rosbag2 metadata\n")
     cases = {bag: "truncated", wrong: "no input topic", corrupt: "corrupt", unknown: "unknown bag storage",
-             tmp_path / "empty": "not a rosbag2 bag", tmp_path / "missing": "no such bag"}
+             tmp_path / "empty": "not a rosbag2 bag", tmp_path / "missing": "no such bag",
+             garbage: "not a rosbag2 metadata file"}
     for path, words in cases.items():
         with pytest.raises(InputError) as err:
             read_bags([path])
