@@ -36,6 +36,11 @@ def format_unit(entry: dict) -> str:
 
     life = ("not yet measurable (no clearance growth resolved)" if r["cycles_p05"] is None else
             f"p05 {r['cycles_p05']:.4g} / p50 {r['cycles_p50']:.4g} / p95 {r['cycles_p95']:.4g} applications")
+    if r["cycles_p05"] is not None and r.get("hours_p50") is not None:
+        life += f" (p50 {r['hours_p50']:.4g} h at {r['applications_per_hour']:.4g} applications/h)"
+    if r.get("fatigue_remaining_cycles") is not None:
+        life += (f"; fatigue (ISO 3408-5 L10): {r['fatigue_remaining_cycles']:.4g} applications; "
+                 f"limiting: {r.get('limiting_mechanism', 'unknown')}")
     faults = ", ".join(f"{k} {v}" for k, v in sorted(entry["input_faults"].items())) or "none"
     lines = [f"{entry['unit']}: {entry['duty_cycles']} brake applications",
              f"  wear depth: screw raceway {w['screw_raceway_m'] * 1e6:.4g} µm, nut raceway "
