@@ -18,7 +18,7 @@ import argparse
 from pathlib import Path
 
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.outputs import write_json
+from ebm_wear_monitor.outputs import check_destination, write_json
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -83,6 +83,8 @@ def _run_selftest(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_destination(args.json, "--json")  # before minutes of work, not after
+    check_destination(args.report, "--report", directory=True)
     if args.selftest:
         if args.bags:
             raise InputError("--selftest takes no BAG arguments")

@@ -3,16 +3,14 @@
 ``write_report(directory, states)`` writes ``index.html`` and PNG figures
 (matplotlib, Agg backend, no display needed) for every unit; ``states`` are the
 ``(result, scorer, ranking)`` triples of :func:`.pipeline.diagnose_with_state`.
-Files are written into a temporary directory that replaces ``directory`` at the
-end, so a failed run leaves nothing half-written.
+Files are built in a temporary directory and moved into ``directory`` at the end
+(:func:`ebm_wear_monitor.outputs.publish_directory`), so a failed run leaves nothing half-written.
 """
 
 from __future__ import annotations
 
 import html
 import json
-import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +19,7 @@ from ebm_wear_monitor.diagnosis.phases import PHASES
 from ebm_wear_monitor.diagnosis.ranking import Ranking, Scorer
 from ebm_wear_monitor.diagnosis.recording import SIGNALS
 from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Augment
-from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.outputs import publish_directory
 
 
 def needed_current(sc: Scorer, aug: Augment) -> np.ndarray:
@@ -135,15 +133,16 @@ held-out gap ({e(res['metric'])}) {res['gap_before']:.3g} &rarr; {res['gap_after
 
 
 def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking]]) -> Path:
-    """Write the HTML report of every unit into ``directory`` (replaced if it exists)."""
+    """Write the HTML report of every unit into ``directory`` (created if needed; files replaced).
+
+    Built in a temporary sibling and moved in by :func:`ebm_wear_monitor.outputs.publish_directory`
+    (``index.html`` last), so a failed run leaves no half-written page.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
-    directory = Path(directory)
-    if not directory.parent.is_dir():
-        raise InputError(f"--report: directory {directory.parent} does not exist")
-    tmp = Path(tempfile.mkdtemp(prefix=f".{directory.name}.", dir=directory.parent))
-    try:
+
+    def build(tmp: Path) -> None:
         parts = []
         for i, (res, sc, ranking) in enumerate(states):
             stem = f"unit{i}"
@@ -156,10 +155,5 @@ def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking
             "<body><h1>Sim-to-real gap diagnosis</h1>"
             f"<p>Residuals: {html.escape(states[0][0]['residual_method'])}.</p>"
             + "".join(parts) + "</body></html>", encoding="utf-8")
-        if directory.exists():
-            shutil.rmtree(directory)
-        tmp.rename(directory)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return directory
+
+    return publish_directory(build, directory)

@@ -59,6 +59,16 @@ def test_bad_input_exits_2_with_one_line(argv, msg, capsys, tmp_path):
     assert err.count("\n") == 0 and msg in err
 
 
+def test_unusable_destination_exits_2_before_any_work(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    # the self-test would take seconds: the destinations are checked first
+    assert main(["diagnose", "--selftest", "--quick", "--report", str(blocker)]) == 2
+    assert main(["diagnose", "--selftest", "--quick", "--json", str(tmp_path)]) == 2
+    err = capsys.readouterr()
+    assert "--report" in err.err and "--json" in err.err and "self-test:" not in err.out
+
+
 def test_bag_without_current_exits_2(tmp_path, capsys):
     r = simulate_case(load_unit(), Case({}, 0.0, 7, 0))
     path = tmp_path / "nocur"
