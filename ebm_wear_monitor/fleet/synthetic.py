@@ -21,19 +21,16 @@ mcap or sqlite3 alternately), plus ``DIR/params.yaml`` and ``DIR/scenarios.json`
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from ebm_wear_monitor.bagio import Series, write_unit_bag
-from ebm_wear_monitor.outputs import atomic_write, write_json
-from ebm_wear_monitor.params import UnitParams
-from ebm_wear_monitor.params.unit import unit_from_dict
+from ebm_wear_monitor.outputs import write_json
+from ebm_wear_monitor.params import UnitParams, accelerated, save_unit
 
 #: default factor on the wear coefficient k_slip of a synthetic fleet's unit file [-]
 WEAR_SCALE = 2e4
@@ -135,14 +132,6 @@ def write_unit(root: str | os.PathLike, scenario: UnitScenario, params: UnitPara
     return paths
 
 
-def accelerated(params: UnitParams, wear_scale: float) -> UnitParams:
-    """``params`` with the wear coefficient k_slip multiplied by ``wear_scale`` (accelerated life)."""
-    raw = copy.deepcopy(params.raw)
-    raw["wear"]["k_slip"] = float(raw["wear"]["k_slip"]) * wear_scale
-    raw["name"] = f"{params.name}, wear x{wear_scale:g}"
-    return unit_from_dict(raw, f"{params.name} (accelerated)")
-
-
 def generate_fleet(root: str | os.PathLike, units: list[UnitScenario], params: UnitParams,
                    client=None, wear_scale: float = WEAR_SCALE) -> tuple[UnitParams, list[Path]]:
     """Write every unit's bags under ``root`` (in parallel on a Dask ``client`` if given),
@@ -153,8 +142,7 @@ def generate_fleet(root: str | os.PathLike, units: list[UnitScenario], params: U
     root = Path(root)
     params = accelerated(params, wear_scale)
     root.mkdir(parents=True, exist_ok=True)
-    atomic_write(root / "params.yaml",
-                 lambda tmp: tmp.write_text(yaml.safe_dump(params.raw, sort_keys=False), encoding="utf-8"))
+    save_unit(root / "params.yaml", params, f"synthetic fleet: {params.name}")
     if client is None:
         paths = [write_unit(root, s, params) for s in units]
     else:

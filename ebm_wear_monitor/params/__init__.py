@@ -12,8 +12,10 @@ from ebm_wear_monitor.params.unit import (
     ParamError,
     UnitParams,
     WearParams,
+    accelerated,
     load_unit,
     reference_path,
+    save_unit,
     unit_from_dict,
 )
 
@@ -29,7 +31,9 @@ __all__ = [
     "ParamError",
     "UnitParams",
     "WearParams",
+    "accelerated",
     "load_unit",
     "reference_path",
+    "save_unit",
     "unit_from_dict",
 ]

@@ -8,6 +8,7 @@ values). Everything is SI: m, N, Pa, kg, s, rad (angles in the file end in
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import json
 import math
@@ -312,3 +313,26 @@ def load_unit(path: str | Path | None = None) -> UnitParams:
         at = f" at line {mark.line + 1}" if mark is not None else ""
         raise ParamError(f"{path}: malformed YAML{at}") from None
     return unit_from_dict(data, str(path))
+
+
+def accelerated(unit: UnitParams, wear_scale: float) -> UnitParams:
+    """``unit`` on an accelerated-life rig: Archard's k_slip (000 eq. 20) multiplied by ``wear_scale`` [-].
+
+    A monitor replaying such a rig's recordings must use the same file, or its wear
+    model under-predicts the growth by ``wear_scale``.
+    """
+    if not (math.isfinite(wear_scale) and wear_scale > 0.0):
+        raise ParamError(f"wear scale must be a finite number > 0, got {wear_scale!r}")
+    raw = copy.deepcopy(unit.raw)
+    raw["wear"]["k_slip"] = float(raw["wear"]["k_slip"]) * wear_scale
+    raw["name"] = f"{unit.name}, wear x{wear_scale:g}"
+    return unit_from_dict(raw, f"{unit.name} (accelerated)")
+
+
+def save_unit(path: str | Path, unit: UnitParams, header: str = "") -> Path:
+    """Write ``unit`` as a unit YAML file (atomically), ``header`` as leading comment lines."""
+    from ebm_wear_monitor.outputs import atomic_write
+
+    comment = "".join(f"# {line}\n" for line in header.splitlines())
+    text = comment + yaml.safe_dump(unit.raw, sort_keys=False)
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
