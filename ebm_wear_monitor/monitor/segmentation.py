@@ -84,6 +84,7 @@ REST = -1
 UNKNOWN = -2  # at the start of data and after a gap: the first sample decides (at rest or moving)
 ACTIVE = (CE, FG, FM, FR)
 _CONFIRMED, _BROKEN, _UNDECIDED = 0, 1, 2
+_TO_FG = {CE: "i_fon", FR: "i_posf"}  # force condition that sends a moving state to force generation
 _FORCE_WINDOW = 4096  # samples over which force conditions are evaluated at once (doubled on demand)
 
 
@@ -377,18 +378,12 @@ class Segmenter:
             self._consume(p, e, FM)
             return e, False
         r = nx("i_slow", p)
-        if st == CE:
-            f = nf("i_fon", p)
-            if f < min(r, e):
-                self._consume(p, f, CE)
+        if st in _TO_FG:  # CE: force onset; FR: a new apply move under force
+            g = nf(_TO_FG[st], p)
+            if g < min(r, e):
+                self._consume(p, g, st)
                 self.state = FG
-                return f, False
-        elif st == FR:
-            a = nf("i_posf", p)
-            if a < min(r, e):
-                self._consume(p, a, FR)
-                self.state = FG
-                return a, False
+                return g, False
         if r < e:
             accept = True
             if st == MOTION:  # context unknown: a stop is a rest after a release-direction move only
