@@ -22,9 +22,14 @@ WEAR_METHODS = ("surrogate", "direct")
 _NOISE_MULTIPLE = 9.0  # 'on' thresholds >= 9 sigma of the sensor noise, 'off' (half) >= 4.5 sigma
 
 
-def _p(default: Any, unit: str, lo: float | None, hi: float | None, doc: str) -> Any:
-    """A config field carrying its documentation: ``unit``, closed range [lo, hi] and a description."""
-    return field(default=default, metadata={"unit": unit, "range": (lo, hi), "doc": doc})
+def _p(default: Any, unit: str, lo: float | None, hi: float | None, doc: str, *,
+       choices: tuple[str, ...] | None = None) -> Any:
+    """A config field carrying its documentation: ``unit``, closed range [lo, hi] (or the allowed
+    ``choices`` of a string field) and a description."""
+    metadata = {"unit": unit, "range": (lo, hi), "doc": doc}
+    if choices is not None:
+        metadata["choices"] = choices
+    return field(default=default, metadata=metadata)
 
 
 @dataclass(frozen=True)
@@ -32,9 +37,10 @@ class MonitorConfig:
     """Thresholds and noise figures of the monitor core. SI units; ranges are inclusive."""
 
     # ---- physics
-    wear_method: str = field(default="surrogate", metadata={
-        "unit": "", "range": (None, None), "choices": WEAR_METHODS,
-        "doc": "wear model of the physics core: 'surrogate' (fast table) or 'direct' (000 Fig. 6 solve)"})
+    wear_method: str = _p(
+        "surrogate", "", None, None,
+        "wear model of the physics core: 'surrogate' (fast table) or 'direct' (000 Fig. 6 solve)",
+        choices=WEAR_METHODS)
 
     # ---- input alignment (alignment.py)
     reorder_window_s: float = _p(
