@@ -5,6 +5,9 @@ The nut follows a prescribed minimum-jerk travel x(t) per brake cycle (apply
 the current is what 004 eq. 1, 7, 9 (plus a known :class:`Augment`) require for
 that motion: I = (J_me dw_m/dt + T_L + T_f) / K_T, computed from the analytic
 derivatives.  At rest the motor holds T_L exactly (friction inside its band).
+Friction and force are written out here from the equations, not taken from
+:mod:`ebm_wear_monitor.diagnosis.residuals`, so a sign or factor error in the
+diagnosis's model forms shows up as a residual instead of cancelling.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ import math
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.recording import Recording
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal, force_from_travel, kinetic_friction
+from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
 
 
 def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -51,15 +54,17 @@ def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: fl
     t, x, xd, xdd = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
     w_m = nom.i_g * k * xd
-    F_true = np.maximum(x - nom.x_ag - aug.clearance, 0.0) * nom.K_b
-    F_true = F_true + aug.stiffness_quad * np.maximum(x - nom.x_ag - aug.clearance, 0.0) ** 2
-    T_L = nom.load_ratio * F_true
-    moving = np.abs(w_m) > 1e-3
-    T_f = np.where(moving, kinetic_friction(nom, aug, w_m, F_true), 0.0)
-    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / nom.K_T
-    sensor = Augment(force_bias=aug.force_bias, force_gain=aug.force_gain, clearance=aug.clearance,
-                     stiffness_quad=aug.stiffness_quad)
-    force_meas = force_from_travel(nom, sensor, x)
+    d = np.maximum(x - nom.x_ag - aug.clearance, 0.0)  # pad compression [m]
+    F_true = nom.K_b * d + aug.stiffness_quad * d**2  # 004 eq. 5 (+ k_2 d^2)
+    T_L = nom.lead * F_true / (2.0 * math.pi * nom.i_g)  # 004 eq. 1
+    speed = np.abs(w_m)
+    # 004 eq. 9 sliding branch with the catalog's corrections (efficiency, Stribeck)
+    T_f = np.sign(w_m) * (nom.T_fc + aug.dT_fc + (nom.G + aug.dG) * F_true + (nom.B + aug.dB) * speed
+                          + T_L * (aug.eff_base + aug.eff_speed * speed)
+                          + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
+    T_f = np.where(speed > 1e-3, T_f, 0.0)
+    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / nom.K_T  # 004 eq. 1, 7
+    force_meas = (1.0 + aug.force_gain) * F_true + aug.force_bias  # sensor gain and offset
     sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
     return Recording(t, **sig)
