@@ -72,5 +72,6 @@ def test_summaries_with_faster_growth_name_a_scale_effect():
             "clearance_observed_m": 2e-4 + 1.5e-7 * n + rng.normal(0.0, 2e-8, n.size)}
     res = diagnose_life(life_data_from_applications(apps))
     assert res["verdict"] == "effect" and res["effect"] in ("wear_coefficient", "ball_share")
-    if res["effect"] == "wear_coefficient":
-        assert res["ranking"][0]["parameters"][0] == pytest.approx(0.5, abs=0.05)
+    # whichever of the two tied scale effects ranks first, the Archard factor is 1.5 / 1.0 - 1
+    s = next(f for f in res["ranking"] if f["effect"] == "wear_coefficient")["parameters"][0]
+    assert s == pytest.approx(0.5, abs=0.05)
