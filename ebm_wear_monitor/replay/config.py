@@ -45,9 +45,14 @@ def load_monitor_config(path: str | os.PathLike) -> MonitorConfig:
     values: dict = {}
     for section in sections or [data]:
         values.update(section)
+    names = {f.name for f in fields(MonitorConfig)}
+    if not sections and values and not names & set(values):
+        # a flat file none of whose keys is a monitor parameter: another kind of file (a unit file?)
+        raise InputError(f"{path}: no monitor parameter in it (e.g. {', '.join(sorted(names)[:3])}, ...); "
+                         "expected the node's parameter file")
     defaults = MonitorConfig()
     core = {k: _number(v, getattr(defaults, k)) if isinstance(getattr(defaults, k), (int, float)) else v
-            for k, v in values.items() if k in {f.name for f in fields(MonitorConfig)}}
+            for k, v in values.items() if k in names}
     try:
         return defaults.updated(**core)
     except InputError as exc:

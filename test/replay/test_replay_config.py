@@ -52,3 +52,11 @@ def test_binary_file_is_a_named_input_error(tmp_path):
     path.write_bytes(b"\xff\xfe\x00garbage")
     with pytest.raises(InputError, match=str(path)):
         load_monitor_config(path)
+
+
+def test_a_unit_file_given_as_config_is_refused(tmp_path):
+    """A flat file without a single monitor parameter is not silently taken for the defaults."""
+    from ebm_wear_monitor.params import reference_path
+
+    with pytest.raises(InputError, match="no monitor parameter"):
+        load_monitor_config(reference_path("embu_000"))
