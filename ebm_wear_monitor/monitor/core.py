@@ -43,6 +43,7 @@ from ebm_wear_monitor.monitor.observation import observe_clearance
 from ebm_wear_monitor.monitor.persistence import save_state
 from ebm_wear_monitor.monitor.segmentation import Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
+from ebm_wear_monitor.outputs import jsonable
 from ebm_wear_monitor.params import UnitParams
 
 WearRatesFn = Callable[[np.ndarray, np.ndarray], Any]  # (F [N], omega [rad/s]) -> (screw, nut, ball) [m/s]
@@ -116,35 +117,29 @@ class MonitorSnapshot:
 
     def to_json_dict(self) -> dict[str, Any]:
         """The per-unit entry of the replay JSON (interface.md section 4) without "unit"; NaN -> null."""
-
-        def num(v: float | None) -> float | None:
-            return None if v is None or not math.isfinite(v) else float(v)
-
-        return {
+        return jsonable({  # type: ignore[return-value]
             "duty_cycles": self.duty_cycles,
             "wear": {"screw_raceway_m": self.wear_screw_m, "nut_raceway_m": self.wear_nut_m,
                      "ball_m": self.wear_ball_m},
-            "clearance": {"model_m": num(self.clearance_model_m),
-                          "estimate_m": num(self.clearance_estimate_m), "std_m": num(self.clearance_std_m),
-                          "wear_rate_factor": num(self.wear_rate_factor),
-                          "wear_rate_factor_std": num(self.wear_rate_factor_std),
+            "clearance": {"model_m": self.clearance_model_m, "estimate_m": self.clearance_estimate_m,
+                          "std_m": self.clearance_std_m, "wear_rate_factor": self.wear_rate_factor,
+                          "wear_rate_factor_std": self.wear_rate_factor_std,
                           "observations": self.observations},
             "remaining_life": {
-                "limit_m": self.limit_m, "cycles_p05": num(self.cycles_p05),
-                "cycles_p50": num(self.cycles_p50), "cycles_p95": num(self.cycles_p95),
-                "status": self.life_status,
-                "applications_per_hour": num(self.applications_per_hour), "hours_p50": num(self.hours_p50),
-                "fatigue_l10_revolutions": num(self.fatigue_l10_revolutions),
-                "fatigue_cubic_mean_load_n": num(self.fatigue_cubic_mean_load_n),
+                "limit_m": self.limit_m, "cycles_p05": self.cycles_p05, "cycles_p50": self.cycles_p50,
+                "cycles_p95": self.cycles_p95, "status": self.life_status,
+                "applications_per_hour": self.applications_per_hour, "hours_p50": self.hours_p50,
+                "fatigue_l10_revolutions": self.fatigue_l10_revolutions,
+                "fatigue_cubic_mean_load_n": self.fatigue_cubic_mean_load_n,
                 "revolutions": self.revolutions,
-                "fatigue_remaining_cycles": num(self.fatigue_remaining_cycles),
+                "fatigue_remaining_cycles": self.fatigue_remaining_cycles,
                 "limiting_mechanism": self.limiting_mechanism},
-            "input_faults": dict(self.input_faults),
-            "input_faults_by_signal": {k: dict(v) for k, v in self.input_faults_by_signal.items()},
-            "input_rates_hz": {k: num(v) for k, v in self.input_rates_hz.items()},
-            "segments": dict(self.segments),
+            "input_faults": self.input_faults,
+            "input_faults_by_signal": self.input_faults_by_signal,
+            "input_rates_hz": self.input_rates_hz,
+            "segments": self.segments,
             "last_stamp_ns": self.last_stamp_ns,
-        }
+        })
 
 
 def _physics(unit: UnitParams, method: str) -> tuple[WearRatesFn, GrowthFn]:
