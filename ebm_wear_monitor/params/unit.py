@@ -24,6 +24,12 @@ from ebm_wear_monitor.errors import InputError
 REFERENCE_UNITS = {"embu_000": "embu_000.yaml", "screw_003": "screw_003.yaml"}
 
 
+#: largest boundary friction coefficient mu_a accepted (000 eq. 14) [-]: lubricated steel on steel is
+#: 0.05-0.15; above ~0.3 the friction angles of eq. 15 (atan mu_s + atan mu_n) tilt the two contact
+#: angles apart until the screw angle nears zero and the Fig. 6 solve converges to unphysical states
+MAX_BOUNDARY_FRICTION = 0.3
+
+
 class ParamError(InputError):
     """A unit parameter file is missing a key, has a wrong type or an impossible value."""
 
@@ -95,7 +101,7 @@ class Lubricant:
 class WearParams:
     k_slip: float  # Archard dimensionless wear constant (000 eq. 20) [-]
     raceway_share: float  # share of the wear depth taken by the raceways (000 Sec. 4.1: 2/3) [-]
-    boundary_friction: float  # mu_a, asperity (boundary) friction coefficient (000 eq. 14) [-]
+    boundary_friction: float  # mu_a, asperity (boundary) friction coefficient (000 eq. 14), <= 0.3 [-]
 
 
 @dataclass(frozen=True)
@@ -250,7 +256,8 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
                        {"viscosity": {}, "pressure_viscosity": {}})
     at_least_zero = {"positive": False, "nonnegative": True}
     wear = _build(WearParams, _section(data, "wear", where), f"{where}: wear", {
-        "k_slip": {}, "raceway_share": {"hi": 1.0}, "boundary_friction": at_least_zero,
+        "k_slip": {}, "raceway_share": {"hi": 1.0},
+        "boundary_friction": at_least_zero | {"hi": MAX_BOUNDARY_FRICTION},
     })
 
     actuator = None

@@ -71,7 +71,7 @@ def write_unit(tmp_path, edit):
     (lambda d: d.pop("lubricant"), "lubricant"),
     (lambda d: d.pop("actuator"), "actuator"),
     (lambda d: d["wear"].__setitem__("boundary_friction", -1e-301), "boundary_friction: must be >= 0"),
-    (lambda d: d["wear"].__setitem__("boundary_friction", 1.5), "did not converge"),
+    (lambda d: d["wear"].__setitem__("boundary_friction", 1.5), "boundary_friction: must be <= 0.3"),
 ])
 def test_bad_parameter_files_exit_2_with_one_line(tmp_path, capsys, edit, message):
     params = write_unit(tmp_path, edit)

@@ -136,3 +136,14 @@ def test_contact_angles_fall_back_without_load_dependence_on_speed():
     assert eq.q_s == pytest.approx(np.full(3, eq.q_s[0]), rel=2e-2)
     assert eq.iterations < 30
     assert NUT != SCREW
+
+
+def test_an_unconverged_solve_is_refused_not_reported():
+    """Fig. 6 cut short (one iteration) must not hand out its last iterate as the wear state."""
+    from ebm_wear_monitor.errors import InputError
+    from ebm_wear_monitor.physics.options import ModelOptions
+    from ebm_wear_monitor.physics.reports import wear_report
+
+    with pytest.raises(InputError, match="did not converge in 1 iterations"):
+        wear_report(UNIT, 20e3, 20.0, ModelOptions(max_iter=1))
+    assert wear_report(UNIT, 20e3, 20.0)["screw"]["wear_rate_m_s"] > 0.0
