@@ -7,7 +7,7 @@ import pytest
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorConfig
-from ebm_wear_monitor.monitor.alignment import InputAligner, ros_stamp_ns, stamps_to_ns
+from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, InputAligner, ros_stamp_ns, stamps_to_ns
 
 N = 3000  # samples per topic, 1 kHz, 3 s of a unit at rest
 GAP = slice(1500, 1700)  # 200 ms missing on every topic: one gap
@@ -154,6 +154,7 @@ def test_a_stamp_from_the_future_does_not_blind_a_topic(unit):
     k = MonitorConfig().reanchor_after_samples
     # the 'k' samples after the glitch are dropped until the topic is re-anchored, then all is normal
     assert al.faults["velocity"] == {"stamp_backwards": k, "reanchored": 1, "missing": k + 1}
+    assert set(al.fault_totals()) <= set(FAULT_KINDS)
     assert batch.t_ns.size == 2000 - 1 - k
 
 

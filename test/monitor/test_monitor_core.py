@@ -14,7 +14,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, screw_growth, synth_cycles
 
-from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore, load_state, save_state
+from ebm_wear_monitor.monitor import FAULT_KINDS, MonitorConfig, MonitorCore, load_state, save_state
 from ebm_wear_monitor.physics import clearance_growth, wear_model
 
 
@@ -76,6 +76,7 @@ def test_bit_identical_whatever_the_chunking(unit):
     assert snap.duty_cycles == 19 and snap.segments["interrupted"] == 1
     assert set(snap.input_faults) >= {"missing", "non_finite", "duplicate", "out_of_order", "negative",
                                       "late", "gap", "interrupted_cycle"}
+    assert set(snap.input_faults) <= set(FAULT_KINDS)  # the documented catalogue covers every count
     rng = np.random.default_rng(0)
     n = synth.t.size
     for trial in range(4):
@@ -232,6 +233,7 @@ def test_outlier_rejected_and_clearance_jump_followed(unit):
     snap = core.snapshot()
     assert snap.input_faults["observation_rejected"] == 1 + 5  # the outlier, then 5 in a row: reset
     assert snap.input_faults["clearance_reset"] == 1
+    assert set(snap.input_faults) <= set(FAULT_KINDS)
     assert abs(cycles[8].clearance_estimate_m - 0.2e-3) < 2e-6  # the outlier did not move the estimate
     assert abs(cycles[19].clearance_estimate_m - 0.2e-3) < 2e-6
     assert abs(snap.clearance_estimate_m - 0.3e-3) < 3 * snap.clearance_std_m
