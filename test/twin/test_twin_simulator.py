@@ -204,3 +204,18 @@ def test_ground_truth_clearance_is_the_wear_law_and_end_of_life_extrapolates_it(
     since_new = 3 + np.arange(1, 9)
     slope, intercept = np.polyfit(since_new, after, 1)
     assert truth["eol_cycles"] == pytest.approx((truth["clearance_limit_m"] - intercept) / slope, rel=0.01)
+
+
+def test_each_application_starts_at_the_clearance_the_previous_one_left_under_unequal_wear():
+    """Batched applications with demands of unequal wear (accelerated x1e5): the clearance the plant
+    ran each application with is the clearance after the previous one (within the simulator's
+    tolerance), not a linear extrapolation from the first application's growth."""
+    from ebm_wear_monitor.twin.simulator import CLEARANCE_TOLERANCE_M
+
+    truth = simulate_unit(UNIT, 12, demands=[8e3, 20e3, 14e3], hold_s=0.2, rest_s=0.1, noise=NOISELESS,
+                          wear_acceleration=1e5, batch=6).truth
+    during, after = np.asarray(truth["clearance_m"]), np.asarray(truth["clearance_after_m"])
+    steps = np.diff(after)
+    assert steps.max() > 1.5 * steps.min() > 0.0  # unequal growth per application: the case at stake
+    assert steps.min() > 20 * CLEARANCE_TOLERANCE_M  # and large against the tolerance
+    np.testing.assert_allclose(during[1:], after[:-1], rtol=0.0, atol=2 * CLEARANCE_TOLERANCE_M)
