@@ -101,7 +101,8 @@ from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
-from ebm_wear_monitor.twin.dynamics import equivalent_inertia
+from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
+from ebm_wear_monitor.twin.dynamics import actuator_model
 from ebm_wear_monitor.twin.friction import FrictionLaw, sliding_friction
 
 
@@ -122,13 +123,12 @@ class Nominal:
 
     @classmethod
     def from_unit(cls, unit: UnitParams) -> Nominal:
-        """Nominal twin of a unit file; its ``actuator`` block is required."""
-        a = unit.actuator
-        if a is None:
-            raise InputError(f"{unit.name}: the unit file has no 'actuator' block; the diagnosis needs it")
-        f = a.friction
-        return cls(equivalent_inertia(unit), a.motor.torque_constant, a.gear_ratio, unit.ball_screw.lead,
-                   f.static, f.coulomb, f.viscous, f.load_coefficient, a.stiffness, a.clearance)
+        """Nominal twin of a unit file (the twin's :func:`~ebm_wear_monitor.twin.dynamics.actuator_model`;
+        InputError without an ``actuator`` block)."""
+        m = actuator_model(unit)
+        f, c = m.friction, m.clamp
+        return cls(m.inertia, m.torque_constant, m.gear_ratio, m.lead, f.static, f.coulomb, f.viscous,
+                   f.load_coefficient, c.stiffness, c.clearance)
 
     @property
     def load_ratio(self) -> float:
@@ -185,10 +185,12 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
 def force_from_travel(n: Nominal, aug: Augment, x: np.ndarray) -> np.ndarray:
     """Clamp force read by the sensor at nut travel ``x`` [m]: 004 eq. 5 with the corrections of ``aug`` [N].
 
-    F_meas = (1 + g) (K_b d + k_2 d^2) + b with d = max(0, x - x_ag - dx).
+    F_meas = (1 + g) (K_b d + k_2 d^2) + b with d = max(0, x - x_ag - dx); the spring is the twin's
+    :class:`~ebm_wear_monitor.twin.clamp.ClampLaw`, whose stiffening s = 2 k_2 delta_ref / K_b.
     """
-    d = np.maximum(x - n.x_ag - aug.clearance, 0.0)
-    return (1.0 + aug.force_gain) * (n.K_b * d + aug.stiffness_quad * d * d) + aug.force_bias
+    spring = ClampLaw(n.K_b, n.x_ag + aug.clearance,
+                      2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / n.K_b**2)
+    return (1.0 + aug.force_gain) * spring.force(x) + aug.force_bias
 
 
 def rest_angle(rec: Recording, seg: Segmentation) -> float:
