@@ -17,8 +17,8 @@ from typing import Any
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.physics import METHODS as WEAR_METHODS
 
-WEAR_METHODS = ("surrogate", "direct")
 _NOISE_MULTIPLE = 9.0  # 'on' thresholds >= 9 sigma of the sensor noise, 'off' (half) >= 4.5 sigma
 
 

@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from ebm_wear_monitor import physics
 from ebm_wear_monitor.monitor.alignment import InputAligner
 from ebm_wear_monitor.monitor.config import MonitorConfig
 from ebm_wear_monitor.monitor.kalman import ClearanceFilter
@@ -143,10 +144,8 @@ class MonitorSnapshot:
 
 
 def _physics(unit: UnitParams, method: str) -> tuple[WearRatesFn, GrowthFn]:
-    from ebm_wear_monitor.physics import clearance_growth, wear_model
-
-    model = wear_model(unit, method)
-    return model.rates, lambda s, n, b: float(clearance_growth(unit, s, n, b))
+    model = physics.wear_model(unit, method)
+    return model.rates, lambda s, n, b: float(physics.clearance_growth(unit, s, n, b))
 
 
 class MonitorCore:
