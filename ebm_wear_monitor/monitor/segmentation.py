@@ -268,11 +268,12 @@ class Segmenter:
         prev_a = np.empty(n)
         prev_a[0] = ang[0] if self._prev_ns is None else self._prev_angle
         prev_a[1:] = ang[:-1]
-        slow = np.abs(vel) < th.omega_off
+        speed = np.abs(vel)
+        slow = speed < th.omega_off
         self._s = {
             "t": t, "angle": ang, "velocity": vel, "force": frc, "slow": slow,
             "dt": np.where(gap, 0, t - prev_t) * 1e-9, "dangle": np.where(gap, 0.0, ang - prev_a),
-            "i_moving": np.flatnonzero(np.abs(vel) > th.omega_on),
+            "i_moving": np.flatnonzero(speed > th.omega_on),
             "i_pos": np.flatnonzero(vel > th.omega_on),
             "i_neg": np.flatnonzero(vel < -th.omega_on),
             "i_slow": np.flatnonzero(slow),
