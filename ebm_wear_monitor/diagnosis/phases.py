@@ -61,11 +61,6 @@ IDLE = -1
 CLEARANCE, GENERATION, MAINTENANCE, RELEASE = range(4)
 
 
-def phase_name(code: int) -> str:
-    """Name of a phase code (``idle`` for -1)."""
-    return "idle" if code == IDLE else PHASES[code]
-
-
 @dataclass(frozen=True)
 class Segmentation:
     """Per-sample phase code (-1 idle, 0..3 as :data:`PHASES`) and brake-cycle index (0-based)."""

@@ -48,10 +48,6 @@ class Recording:
         """Median sample interval [s]."""
         return float(np.median(np.diff(self.t)))
 
-    def slice(self, start: int, stop: int) -> Recording:
-        """Samples ``start:stop`` as a new recording."""
-        return Recording(*(getattr(self, k)[start:stop] for k in ("t", *SIGNALS)), unit=self.unit)
-
 
 def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Sort by stamp, drop non-finite samples and duplicate stamps (first kept)."""
