@@ -289,6 +289,10 @@ class InputAligner:
         return AlignedBatch(t_ns, picked["angle"], picked["velocity"], picked["axial_force"], gap_before)
 
     # ------------------------------------------------------------------ reporting
+    def fault_counts(self) -> dict[str, dict[str, int]]:
+        """A copy of the counts per topic (and "stream") and kind; topics without faults omitted."""
+        return {signal: dict(per) for signal, per in self.faults.items() if per}
+
     def fault_totals(self) -> dict[str, int]:
         """Counts per fault kind summed over topics (kinds with zero count omitted)."""
         out: dict[str, int] = {}

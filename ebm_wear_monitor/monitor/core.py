@@ -300,7 +300,7 @@ class MonitorCore:
     def state(self) -> MonitorState:
         """A copy of the persistent state now (save it with :func:`save_state`)."""
         st = self._st
-        st.input_faults = {k: dict(v) for k, v in self._aligner.faults.items() if v}
+        st.input_faults = self._aligner.fault_counts()
         st.force_baseline_n = self._segmenter.force_baseline
         return MonitorState.from_dict(st.to_dict())
 
@@ -325,7 +325,6 @@ class MonitorCore:
         if st.duty_cycles >= 2 and st.last_cycle_ns > st.first_cycle_ns:
             per_hour = (st.duty_cycles - 1) / ((st.last_cycle_ns - st.first_cycle_ns) * 1e-9 / 3600.0)
         hours = life.cycles_p50 / per_hour if per_hour and life.cycles_p50 is not None else None
-        by_signal = {k: dict(v) for k, v in self._aligner.faults.items() if v}
         return MonitorSnapshot(
             duty_cycles=st.duty_cycles, wear_screw_m=st.wear_screw_m, wear_nut_m=st.wear_nut_m,
             wear_ball_m=st.wear_ball_m, clearance_model_m=model, clearance_estimate_m=f.clearance,
@@ -335,7 +334,7 @@ class MonitorCore:
             applications_per_hour=per_hour, hours_p50=hours, fatigue_l10_revolutions=fat.l10_revolutions,
             fatigue_cubic_mean_load_n=fat.cubic_mean_load_n, revolutions=fat.revolutions,
             fatigue_remaining_cycles=fat.remaining_cycles, limiting_mechanism=limiting_mechanism(life, fat),
-            input_faults=self._aligner.fault_totals(), input_faults_by_signal=by_signal,
+            input_faults=self._aligner.fault_totals(), input_faults_by_signal=self._aligner.fault_counts(),
             input_rates_hz=self._aligner.input_rates_hz(), segments=dict(st.segments),
             last_stamp_ns=st.last_stamp_ns, pending_samples=self._aligner.pending())
 
