@@ -339,17 +339,19 @@ class ResidualModel:
         return force_from_travel(self.nominal, aug, self.x)
 
     # ----------------------------------------------------------------- block residuals
-    def _net_integral(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
-        """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample."""
+    def _net_integral(self, aug: Augment) -> np.ndarray:
+        """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample [N m s]."""
         T_f, T_L = self.friction(aug)
         net = self.drive(aug) - T_L - T_f
-        t = self.rec.t
-        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(t)))), net
+        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(self.rec.t))))
 
     def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
         """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N]), see the module docstring."""
+        return self._block_residuals(aug, self._net_integral(aug))
+
+    def _block_residuals(self, aug: Augment, C: np.ndarray) -> dict[str, np.ndarray]:
+        """:meth:`residuals` given the net-torque integral ``C`` of ``aug``."""
         b = self.blocks
-        C, _ = self._net_integral(aug)
         torque = (C[b.stop] - C[b.start] - self.nominal.J_me * self._dw_block) / self._dt_block
         df = self.rec.axial_force - self.force_model(aug)
         cf = np.concatenate(([0.0], np.cumsum(df)))
@@ -365,8 +367,8 @@ class ResidualModel:
         end [rad]; ``axial_force``: force predicted from the nut travel minus recorded [N].
         """
         n, b, t = self.nominal, self.blocks, self.rec.t
-        res = self.residuals(aug)
-        C, _ = self._net_integral(aug)
+        C = self._net_integral(aug)
+        res = self._block_residuals(aug, C)
         # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
         g = C / n.J_me - self.w_m
         D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))))
