@@ -42,14 +42,13 @@ from ebm_wear_monitor.monitor.kalman import ClearanceFilter
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
 from ebm_wear_monitor.monitor.observation import observe_clearance
 from ebm_wear_monitor.monitor.persistence import save_state
-from ebm_wear_monitor.monitor.segmentation import Segment, Segmenter
+from ebm_wear_monitor.monitor.segmentation import N_LABELS, Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
 from ebm_wear_monitor.outputs import jsonable
 from ebm_wear_monitor.params import UnitParams
 
 WearRatesFn = Callable[[np.ndarray, np.ndarray], Any]  # (F [N], omega [rad/s]) -> (screw, nut, ball) [m/s]
 GrowthFn = Callable[[float, float, float], float]  # (screw, nut, ball wear [m]) -> clearance growth [m]
-_N_LABELS = 5
 
 
 @dataclass(frozen=True)
@@ -230,16 +229,16 @@ class MonitorCore:
 
     def _integrate(self, seg: Segment) -> CycleSummary | None:
         st = self._st
-        phase_wear = np.zeros((3, _N_LABELS))
+        phase_wear = np.zeros((3, N_LABELS))
         if seg.dt.size:
             rates = self._rates(seg.force, seg.velocity)
             for j, rate in enumerate(rates):
                 inc = np.asarray(rate, dtype=float) * seg.dt
-                phase_wear[j] = np.bincount(seg.label, weights=inc, minlength=_N_LABELS)
+                phase_wear[j] = np.bincount(seg.label, weights=inc, minlength=N_LABELS)
             rot = np.abs(seg.dangle)
             st.sum_f3_rot += float(np.sum(np.abs(seg.force) ** 3 * rot))
             st.sum_rot_rad += float(np.sum(rot))
-        for k in range(_N_LABELS):
+        for k in range(N_LABELS):
             st.wear_screw_m += float(phase_wear[0, k])
             st.wear_nut_m += float(phase_wear[1, k])
             st.wear_ball_m += float(phase_wear[2, k])

@@ -80,6 +80,7 @@ from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
 CE, FG, FM, FR, MOTION = 0, 1, 2, 3, 4  # sample labels (MOTION: outside any application)
+N_LABELS = MOTION + 1  # labels a kept sample can carry (per-label sums have this length)
 REST = -1
 UNKNOWN = -2  # at the start of data and after a gap: the first sample decides (at rest or moving)
 ACTIVE = (CE, FG, FM, FR)
@@ -95,7 +96,7 @@ class Segment:
     kind: str  # "cycle" | "incomplete" | "motion" | "interrupted" | "partial"
     start_ns: int  # stamp of the first sample [ns]
     end_ns: int  # stamp of the first rest sample after it (or the last sample) [ns]
-    phase_ns: np.ndarray  # int64[5]: time spent per label CE, FG, FM, FR, MOTION [ns]
+    phase_ns: np.ndarray  # int64[N_LABELS]: time spent per label CE, FG, FM, FR, MOTION [ns]
     angle: np.ndarray  # kept samples: screw angle [rad]
     velocity: np.ndarray  # screw speed [rad/s]
     force: np.ndarray  # axial force above the rest level, F - b [N]
@@ -122,7 +123,7 @@ class _Open:
     start_ns: int | None = None
     label: int | None = None
     label_start: int = 0
-    phase_ns: np.ndarray = field(default_factory=lambda: np.zeros(5, np.int64))
+    phase_ns: np.ndarray = field(default_factory=lambda: np.zeros(N_LABELS, np.int64))
     parts: list[tuple[np.ndarray, ...]] = field(default_factory=list)
     peak_force: float = -np.inf
     angle_at_peak: float = np.nan
