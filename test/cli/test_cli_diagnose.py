@@ -103,6 +103,8 @@ def test_life_level_on_the_committed_healthy_bag(tmp_path):
     assert main(["diagnose", str(bag), "--params", "embu_000", "--life", "--json", str(out)]) == 0
     res = json.loads(out.read_text())
     assert res.keys() >= SPEC_KEYS | {"life"}
+    # a no-effect recording of the twin: no actuator-level gap either (it once read viscous_friction)
+    assert res["verdict"] == "none" and res["effect"] is None
     life = res["life"]
     assert life["summaries"] >= 8 and life["verdict"] == "none"  # a new unit: no wear-level gap
     assert {r["effect"] for r in life["ranking"]} >= {"wear_coefficient", "running_in", "ball_share"}
