@@ -95,15 +95,14 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
     return {e.name: e for e in effects}
 
 
-
 def friction_refit(nom: Nominal) -> Effect:
     """The moving-branch parameters of 004 eq. 9 (T_fc, B, G) corrected at once, as behind 004 Table 4.
 
     (T_fs is not identified by the torque balance at rest, see :mod:`.residuals`.)
 
     Not a catalog entry (it nests viscous_friction, load_friction and preload_change and
-    would explain any friction effect at the price of four parameters); the diagnosis
-    reports it beside the ranking as the unit's refitted friction law.
+    would explain any friction effect at the price of three parameters, plus the two timing
+    nuisances); the diagnosis reports it beside the ranking as the unit's refitted friction law.
     """
     return Effect("friction_refit", "T_fc, B and G of 004 eq. 9 refitted together",
                   ("dT_fc", "dB", "dG"), ("N m", "N m s/rad", "N m/N"),
