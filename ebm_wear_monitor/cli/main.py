@@ -4,7 +4,9 @@ Each subcommand lives in its own module ``ebm_wear_monitor.cli.<name>`` with
 ``add_arguments(parser)`` and ``run(args) -> int``; modules are imported only
 when their subcommand runs, so ``ebm-wear calc`` never pays for Dask or rclpy.
 Bad input (:class:`~ebm_wear_monitor.errors.InputError`) becomes one line on
-stderr and exit status 2 (interface.md section 5).
+stderr and exit status 2 (interface.md section 5); an interruption (Ctrl-C) exits with 130.
+With ``--json -`` the JSON is the only thing on standard output: every line for people goes
+to standard error (:func:`ebm_wear_monitor.outputs.human_output_to_stderr`).
 """
 
 from __future__ import annotations
@@ -52,7 +54,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser(argv).parse_args(argv)
     try:
-        status = int(_load(args.command).run(args) or 0)
+        from ebm_wear_monitor.outputs import human_output_to_stderr  # (numpy: not for --help)
+
+        with human_output_to_stderr(getattr(args, "json", None)):
+            status = int(_load(args.command).run(args) or 0)
         sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at interpreter exit
         return status
     except InputError as exc:

@@ -1,6 +1,9 @@
 """Unit parameter files (interface.md section 3): loading, validation, reference designs."""
 
 from ebm_wear_monitor.params.unit import (
+    ACTUATOR_BLOCKS,
+    CONTACT_BLOCKS,
+    WEAR_BLOCKS,
     Actuator,
     BallScrew,
     Friction,
@@ -20,6 +23,9 @@ from ebm_wear_monitor.params.unit import (
 )
 
 __all__ = [
+    "ACTUATOR_BLOCKS",
+    "CONTACT_BLOCKS",
+    "WEAR_BLOCKS",
     "Actuator",
     "BallScrew",
     "Friction",

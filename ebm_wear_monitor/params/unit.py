@@ -4,6 +4,12 @@ A unit file describes one EMBU design (and optionally one unit's calibrated
 values). Everything is SI: m, N, Pa, kg, s, rad (angles in the file end in
 ``_deg`` and are degrees). Loading validates every value and raises
 :class:`ParamError` with one line naming the file, the key and the problem.
+
+Each tool reads only the blocks it uses (interface.md section 3): ``load_unit(path,
+blocks=CONTACT_BLOCKS)`` validates ``ball_screw`` and ``materials`` and nothing else, so paper
+003's ball screw (no lubricant, no actuator) works with ``calc contact``. A block that was not
+read is a :class:`MissingBlock` (``actuator``: None); touching it raises the one-line
+:class:`ParamError` naming the block, never an AttributeError deep inside a model.
 """
 
 from __future__ import annotations
@@ -22,6 +28,14 @@ import yaml
 from ebm_wear_monitor.errors import InputError
 
 REFERENCE_UNITS = {"embu_000": "embu_000.yaml", "screw_003": "screw_003.yaml"}
+#: blocks of a unit file (interface.md section 3); ``monitor`` is optional everywhere (defaults)
+BLOCKS = ("ball_screw", "materials", "lubricant", "wear", "actuator", "monitor")
+#: what the Hertz contact needs (calc contact; 000 eq. 1-7, 003 eq. 1-17)
+CONTACT_BLOCKS = ("ball_screw", "materials")
+#: what the wear model needs (calc wear, the monitor core: node, replay, fleet; 000 eq. 5-23)
+WEAR_BLOCKS = ("ball_screw", "materials", "lubricant", "wear")
+#: what the actuator model of 004 needs (calc actuator, the diagnosis)
+ACTUATOR_BLOCKS = ("ball_screw", "actuator")
 
 
 #: largest boundary friction coefficient mu_a accepted (000 eq. 14) [-]: lubricated steel on steel is
@@ -149,14 +163,36 @@ class MonitorParams:
     clearance_limit: float = 0.5e-3  # x_ag at which maintenance is due [m]
 
 
+class MissingBlock:
+    """Stands for a unit-file block that was not read: absent from the file, or not needed by the
+    tool that loaded it. Falsy; any attribute raises the one-line :class:`ParamError`."""
+
+    def __init__(self, block: str, where: str) -> None:
+        self._message = f"{where}: missing or non-mapping section '{block}'"
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):  # copy, pickle and friends probe dunders: a normal miss
+            raise AttributeError(name)
+        raise ParamError(self._message)
+
+    def __bool__(self) -> bool:
+        return False
+
+    def __repr__(self) -> str:
+        return f"MissingBlock({self._message!r})"
+
+
 @dataclass(frozen=True)
 class UnitParams:
-    """One unit file, validated. ``raw`` keeps the whole parsed mapping."""
+    """One unit file, validated. ``raw`` keeps the whole parsed mapping.
+
+    Blocks not read (see :data:`BLOCKS`) are :class:`MissingBlock` (``actuator``: None).
+    """
 
     ball_screw: BallScrew
-    materials: Materials
-    lubricant: Lubricant
-    wear: WearParams
+    materials: Materials | MissingBlock
+    lubricant: Lubricant | MissingBlock
+    wear: WearParams | MissingBlock
     actuator: Actuator | None
     monitor: MonitorParams
     name: str = "unit"
@@ -206,6 +242,9 @@ def _number(sec: dict[str, Any], key: str, where: str, *, required: bool = True,
     return number
 
 
+_AT_LEAST_ZERO = {"positive": False, "nonnegative": True}
+
+
 def _build(cls: type, sec: dict[str, Any], where: str, rules: dict[str, dict[str, Any]]) -> Any:
     """Build dataclass ``cls`` from ``sec`` taking numeric fields through :func:`_number`."""
     kwargs = {}
@@ -225,10 +264,22 @@ def _material(sec: dict[str, Any], where: str, raceway: bool) -> Material:
     })
 
 
-def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
-    """Validate a parsed unit mapping; ``where`` names it in error messages."""
+def unit_from_dict(data: Any, where: str = "unit", blocks: tuple[str, ...] | None = None) -> UnitParams:
+    """Validate a parsed unit mapping; ``where`` names it in error messages.
+
+    ``blocks``: the blocks to read, each required (``monitor`` stays optional); None = the wear
+    model's blocks (:data:`WEAR_BLOCKS`) required, ``actuator`` and ``monitor`` read when present.
+    Blocks not read are neither validated nor available (:class:`MissingBlock`).
+    """
     if not isinstance(data, dict):
         raise ParamError(f"{where}: expected a mapping at the top level")
+    unknown = set(blocks or ()) - set(BLOCKS)
+    if unknown:
+        raise ValueError(f"unknown unit-file block(s) {sorted(unknown)}; known: {', '.join(BLOCKS)}")
+    if blocks is None:
+        wanted = set(WEAR_BLOCKS) | ({"actuator"} if data.get("actuator") is not None else set())
+    else:
+        wanted = set(blocks) | {"ball_screw"}
     bs = _section(data, "ball_screw", where)
     w = f"{where}: ball_screw"
     ball_screw = _build(BallScrew, bs, w, {
@@ -244,39 +295,21 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
     if ball_screw.pitch_diameter <= 2.0 * ball_screw.ball_radius:
         raise ParamError(f"{w}.pitch_diameter: must exceed the ball diameter 2 r_b")
 
-    mats = _section(data, "materials", where)
-    materials = Materials(
-        ball=_material(_section(mats, "ball", f"{where}: materials"), f"{where}: materials.ball", False),
-        screw=_material(_section(mats, "screw", f"{where}: materials"), f"{where}: materials.screw", True),
-        nut=_material(_section(mats, "nut", f"{where}: materials"), f"{where}: materials.nut", True),
-        composite_roughness=_number(mats, "composite_roughness", f"{where}: materials"),
-        asperity_radius=_number(mats, "asperity_radius", f"{where}: materials", required=False),
-    )
-    lubricant = _build(Lubricant, _section(data, "lubricant", where), f"{where}: lubricant",
-                       {"viscosity": {}, "pressure_viscosity": {}})
-    at_least_zero = {"positive": False, "nonnegative": True}
-    wear = _build(WearParams, _section(data, "wear", where), f"{where}: wear", {
-        "k_slip": {}, "raceway_share": {"hi": 1.0},
-        "boundary_friction": at_least_zero | {"hi": MAX_BOUNDARY_FRICTION},
-    })
-
-    actuator = None
-    if data.get("actuator") is not None:
-        act = _section(data, "actuator", where)
-        wa = f"{where}: actuator"
-        actuator = Actuator(
-            motor=_build(Motor, _section(act, "motor", wa), f"{wa}.motor", {
-                "torque_constant": {}, "back_emf_constant": {}, "resistance": {},
-                "inductance": {}, "inertia": {},
-                "continuous_stall_torque": {"required": False, "default": Motor.continuous_stall_torque}}),
-            friction=_build(Friction, _section(act, "friction", wa), f"{wa}.friction", {
-                "static": at_least_zero, "coulomb": at_least_zero, "viscous": at_least_zero,
-                "load_coefficient": at_least_zero}),
-            **{k: _number(act, k, wa) for k in (
-                "gear_ratio", "screw_inertia", "gear_inertia", "nut_mass", "clearance", "stiffness")},
-            **{k: _number(act, k, wa, required=False, default=getattr(Actuator, k))
-               for k in ("supply_voltage", "current_limit")},
-        )
+    materials: Materials | MissingBlock = MissingBlock("materials", where)
+    lubricant: Lubricant | MissingBlock = MissingBlock("lubricant", where)
+    wear: WearParams | MissingBlock = MissingBlock("wear", where)
+    if "materials" in wanted:
+        materials = _materials(data, where)
+    if "lubricant" in wanted:
+        lubricant = _build(Lubricant, _section(data, "lubricant", where), f"{where}: lubricant",
+                           {"viscosity": {}, "pressure_viscosity": {}})
+    if "wear" in wanted:
+        wear = _build(WearParams, _section(data, "wear", where), f"{where}: wear", {
+            "k_slip": {}, "raceway_share": {"hi": 1.0},
+            "boundary_friction": _AT_LEAST_ZERO | {"hi": MAX_BOUNDARY_FRICTION},
+        })
+    actuator = _actuator(_section(data, "actuator", where), f"{where}: actuator") \
+        if "actuator" in wanted else None
 
     mon = data.get("monitor") or {}
     if not isinstance(mon, dict):
@@ -289,6 +322,33 @@ def unit_from_dict(data: Any, where: str = "unit") -> UnitParams:
     return UnitParams(ball_screw, materials, lubricant, wear, actuator, monitor, name, data)
 
 
+def _materials(data: dict[str, Any], where: str) -> Materials:
+    mats = _section(data, "materials", where)
+    return Materials(
+        ball=_material(_section(mats, "ball", f"{where}: materials"), f"{where}: materials.ball", False),
+        screw=_material(_section(mats, "screw", f"{where}: materials"), f"{where}: materials.screw", True),
+        nut=_material(_section(mats, "nut", f"{where}: materials"), f"{where}: materials.nut", True),
+        composite_roughness=_number(mats, "composite_roughness", f"{where}: materials"),
+        asperity_radius=_number(mats, "asperity_radius", f"{where}: materials", required=False),
+    )
+
+
+def _actuator(act: dict[str, Any], wa: str) -> Actuator:
+    return Actuator(
+        motor=_build(Motor, _section(act, "motor", wa), f"{wa}.motor", {
+            "torque_constant": {}, "back_emf_constant": {}, "resistance": {},
+            "inductance": {}, "inertia": {},
+            "continuous_stall_torque": {"required": False, "default": Motor.continuous_stall_torque}}),
+        friction=_build(Friction, _section(act, "friction", wa), f"{wa}.friction", {
+            "static": _AT_LEAST_ZERO, "coulomb": _AT_LEAST_ZERO, "viscous": _AT_LEAST_ZERO,
+            "load_coefficient": _AT_LEAST_ZERO}),
+        **{k: _number(act, k, wa) for k in (
+            "gear_ratio", "screw_inertia", "gear_inertia", "nut_mass", "clearance", "stiffness")},
+        **{k: _number(act, k, wa, required=False, default=getattr(Actuator, k))
+           for k in ("supply_voltage", "current_limit")},
+    )
+
+
 def reference_path(name: str = "embu_000") -> Path:
     """Path of a shipped reference unit file: ``embu_000`` (paper 000) or ``screw_003`` (paper 003)."""
     if name not in REFERENCE_UNITS:
@@ -296,10 +356,11 @@ def reference_path(name: str = "embu_000") -> Path:
     return Path(str(resources.files(__package__) / "reference" / REFERENCE_UNITS[name]))
 
 
-def load_unit(path: str | Path | None = None) -> UnitParams:
+def load_unit(path: str | Path | None = None, blocks: tuple[str, ...] | None = None) -> UnitParams:
     """Load and validate a unit YAML file (default: the reference EMBU of paper 000).
 
-    ``path`` may also be a reference name (``embu_000``, ``screw_003``).
+    ``path`` may also be a reference name (``embu_000``, ``screw_003``). ``blocks``: the blocks
+    the caller uses (:func:`unit_from_dict`; e.g. :data:`CONTACT_BLOCKS`), None = the wear model's.
     Raises :class:`ParamError` (one line) for unreadable, malformed or invalid files.
     """
     if path is None:
@@ -319,7 +380,7 @@ def load_unit(path: str | Path | None = None) -> UnitParams:
         mark = getattr(exc, "problem_mark", None)
         at = f" at line {mark.line + 1}" if mark is not None else ""
         raise ParamError(f"{path}: malformed YAML{at}") from None
-    return unit_from_dict(data, str(path))
+    return unit_from_dict(data, str(path), blocks)
 
 
 def accelerated(unit: UnitParams, wear_scale: float) -> UnitParams:

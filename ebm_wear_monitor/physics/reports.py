@@ -1,4 +1,13 @@
-"""JSON results of ``ebm-wear calc contact`` and ``ebm-wear calc wear`` (interface.md section 4)."""
+"""JSON results of ``ebm-wear calc contact`` and ``ebm-wear calc wear`` (interface.md section 4).
+
+Physical envelope (:data:`~ebm_wear_monitor.physics.surrogate.ENVELOPE`, the range the wear model
+is tabulated and tested over): axial force 0 < F_a <= 80 kN (four times the reference screw's
+dynamic load rating, past the elastic-plastic switch of 000 eq. 6), a normal load per ball up to
+the one 80 kN gives by 000 eq. 5, |screw speed| <= 200 rad/s (1,900 rpm). Outside it the
+calculators refuse with one line: Hertz theory needs contact ellipses small against the ball (at
+80 kN the reference ellipse's semi-major axis is already 0.8 r_b), and a number such as a 7.8e11 m
+approach at 1e30 N would be arithmetic, not physics.
+"""
 
 from __future__ import annotations
 
@@ -16,12 +25,34 @@ from ebm_wear_monitor.physics.geometry import SIDES, ScrewGeometry, curvature
 from ebm_wear_monitor.physics.hertz import deformation, houpert_max_pressure, houpert_semi_axes, normal_load
 from ebm_wear_monitor.physics.options import ModelOptions
 from ebm_wear_monitor.physics.plasticity import contact_area
+from ebm_wear_monitor.physics.surrogate import ENVELOPE
 
 
-def _positive(name: str, value: float) -> float:
+def _positive(name: str, value: float, maximum: float, unit: str) -> float:
+    """``value`` if it is a finite number in (0, maximum]; InputError (one line) otherwise."""
     if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
         raise InputError(f"{name} must be a positive finite number, got {value!r}")
+    if value > maximum:
+        raise InputError(f"{name} {value:g} {unit} is outside the physical envelope of the model "
+                         f"(at most {maximum:.4g} {unit})")
     return float(value)
+
+
+def check_speed(speed: float) -> float:
+    """Screw speed [rad/s] within the envelope |w| <= ENVELOPE.speed_max; InputError otherwise."""
+    if not (isinstance(speed, (int, float)) and math.isfinite(speed)):
+        raise InputError(f"speed must be finite, got {speed!r}")
+    if abs(speed) > ENVELOPE.speed_max:
+        raise InputError(f"speed {speed:g} rad/s is outside the physical envelope of the model "
+                         f"(|speed| at most {ENVELOPE.speed_max:g} rad/s)")
+    return float(speed)
+
+
+def check_axial_force(force: float, name: str = "axial force", *, allow_zero: bool = False) -> float:
+    """Force [N] within the envelope 0 < F <= ENVELOPE.force_max (0 too with ``allow_zero``)."""
+    if allow_zero and force == 0.0:
+        return 0.0
+    return _positive(name, force, ENVELOPE.force_max, "N")
 
 
 def _contact_type(plastic: Any) -> str:
@@ -43,9 +74,10 @@ def contact_report(unit: UnitParams, axial_force: float | None = None, normal_lo
     geo = ScrewGeometry.from_unit(unit)
     alpha = geo.alpha0
     if axial_force is not None:
-        q = float(normal_load(_positive("axial force", axial_force), geo.z, alpha, geo.phi))
+        q = float(normal_load(check_axial_force(axial_force), geo.z, alpha, geo.phi))
     else:
-        q = _positive("normal load", normal_load_n)  # type: ignore[arg-type]
+        q_max = float(normal_load(ENVELOPE.force_max, geo.z, alpha, geo.phi))
+        q = _positive("normal load", normal_load_n, q_max, "N")  # type: ignore[arg-type]
     out: dict[str, dict[str, Any]] = {}
     for side in SIDES:
         c = curvature(geo, side, alpha)
@@ -73,9 +105,8 @@ def wear_report(unit: UnitParams, axial_force: float, speed: float,
                 options: ModelOptions | None = None) -> dict[str, Any]:
     """Instantaneous wear state at constant axial force [N] and screw speed [rad/s] (000 eq. 5-23)."""
     options = options or ModelOptions()
-    f = _positive("axial force", axial_force)
-    if not math.isfinite(speed):
-        raise InputError(f"speed must be finite, got {speed!r}")
+    f = check_axial_force(axial_force)
+    speed = check_speed(speed)
     eq, screw, nut = solve(unit, np.array([f]), np.array([abs(speed)]), options)
     if not eq.converged:
         raise InputError(f"the Fig. 6 equilibrium did not converge in {options.max_iter} iterations at "

@@ -112,8 +112,79 @@ def test_unwritable_json_destination_exits_2_with_one_line(tmp_path, capsys, whe
     assert list((tmp_path / "a_dir").iterdir()) == []
 
 
-def test_json_into_missing_directory_creates_it(tmp_path):
-    assert run_json(tmp_path / "new" / "sub", "contact", "--params", "embu_000", "--normal-load", "200")
+def test_json_into_a_missing_directory_is_refused_and_creates_nothing(tmp_path, capsys):
+    target = tmp_path / "new" / "sub" / "out.json"
+    assert main(["calc", "contact", "--params", "embu_000", "--normal-load", "200", "--json", str(target)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "does not exist" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_json_dash_writes_only_the_json_to_stdout(capsys):
+    assert main(["calc", "contact", "--params", "embu_000", "--axial-force", "20000", "--json", "-"]) == 0
+    out, err = capsys.readouterr()
+    doc = json.loads(out)  # nothing else on stdout
+    assert set(doc) == {"screw", "nut"} and CONTACT_KEYS <= set(doc["screw"])
+    assert "deformation_m" in err  # the lines for people went to stderr
+
+
+def test_json_file_gets_the_users_umask(tmp_path):
+    import os
+    old = os.umask(0o022)
+    try:
+        run_json(tmp_path, "contact", "--params", "embu_000", "--axial-force", "20000")
+        os.umask(0o027)
+        (tmp_path / "b").mkdir()
+        run_json(tmp_path / "b", "contact", "--params", "embu_000", "--axial-force", "20000")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "out.json").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "b" / "out.json").stat().st_mode & 0o777 == 0o640
+
+
+def test_each_calculator_reads_only_the_blocks_it_uses(tmp_path, capsys):
+    """Paper 003's ball screw has no lubricant and no actuator data (interface.md section 3)."""
+    full = yaml.safe_load(reference_path("embu_000").read_text())
+    contact_only = tmp_path / "screw.yaml"
+    contact_only.write_text(yaml.safe_dump({k: full[k] for k in ("ball_screw", "materials")}))
+    actuator_only = tmp_path / "actuator.yaml"
+    actuator_only.write_text(yaml.safe_dump({k: full[k] for k in ("ball_screw", "actuator")}))
+    ref = run_json(tmp_path, "contact", "--params", "embu_000", "--axial-force", "20000")
+    assert run_json(tmp_path, "contact", "--params", str(contact_only), "--axial-force", "20000") == ref
+    ref = run_json(tmp_path, "actuator", "--params", "embu_000", "--clamp-force", "20000")
+    assert run_json(tmp_path, "actuator", "--params", str(actuator_only), "--clamp-force", "20000") == ref
+    for calc, params, missing in (("wear", contact_only, "lubricant"), ("actuator", contact_only, "actuator"),
+                                  ("contact", actuator_only, "materials")):
+        load = ["--clamp-force", "1000"] if calc == "actuator" else ["--axial-force", "1000"]
+        load += ["--speed", "1"] if calc == "wear" else []
+        assert main(["calc", calc, "--params", str(params), *load]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"section '{missing}'" in err, err
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["contact", "--axial-force", "1e30"], "outside the physical envelope"),
+    (["contact", "--axial-force", "80001"], "at most 8e+04 N"),
+    (["contact", "--normal-load", "1e9"], "outside the physical envelope"),
+    (["wear", "--axial-force", "2e4", "--speed", "201"], "at most 200 rad/s"),
+    (["wear", "--axial-force", "2e4", "--speed=-1e6"], "at most 200 rad/s"),
+    (["wear", "--axial-force", "1e7", "--speed", "20"], "outside the physical envelope"),
+    (["actuator", "--clamp-force", "1e30"], "outside the physical envelope"),
+])
+def test_forces_and_speeds_outside_the_envelope_are_refused(tmp_path, capsys, args, message):
+    out = tmp_path / "never.json"
+    assert main(["calc", args[0], "--params", "embu_000", *args[1:], "--json", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err, err
+    assert not out.exists()
+
+
+def test_envelope_edges_are_accepted(tmp_path):
+    """The edges themselves are inside: 80 kN, 200 rad/s, and the per-ball load 80 kN gives (000 eq. 5)."""
+    at_max = run_json(tmp_path, "contact", "--params", "embu_000", "--axial-force", "80000")
+    q = at_max["screw"]["normal_load_N"]
+    assert run_json(tmp_path, "contact", "--params", "embu_000", "--normal-load", f"{q * (1 - 1e-12)!r}")
+    assert run_json(tmp_path, "wear", "--params", "embu_000", "--axial-force", "20000", "--speed=-200")
 
 
 def test_binary_unit_file_exits_2_with_one_line(tmp_path, capsys):
