@@ -55,7 +55,7 @@ def main() -> None:
         root = Path(tmp) / "fleet"
         with dask_client(n_workers=2) as client:
             units = scenarios(args.units, 7, cycles_per_bag=args.cycles, rate_hz=args.rate)
-            params, bags = generate_fleet(root, units, params, client)
+            params, bags = generate_fleet(root, units, params, client=client)
         messages = bag_message_count(bags)
         print(f"fleet: {args.units} units, {len(bags)} bags, {messages} messages at {args.rate:g} Hz")
         warm_up(params)

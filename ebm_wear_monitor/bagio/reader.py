@@ -90,10 +90,14 @@ class _BagData:
 
 
 def _open(path: Path) -> Reader:
-    if not path.exists():
+    try:
+        exists, has_meta = path.exists(), (path / "metadata.yaml").is_file()
+    except OSError as exc:  # e.g. a chmod 000 bag directory
+        raise InputError(f"{path}: cannot read the bag ({exc.strerror or exc})") from None
+    if not exists:
         raise InputError(f"{path}: no such bag")
     meta = path / "metadata.yaml"
-    if meta.is_file():
+    if has_meta:
         storage = _storage_identifier(meta)
         if storage not in STORAGES:
             raise InputError(f"{path}: unknown bag storage {storage!r} (readable: {', '.join(STORAGES)})")

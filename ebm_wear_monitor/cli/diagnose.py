@@ -1,7 +1,7 @@
 """``ebm-wear diagnose``: sim-to-real gap diagnosis of recorded bags against the twin (interface.md sec. 4).
 
-    ebm-wear diagnose BAG... --params P [--json OUT] [--report DIR] [--life]
-    ebm-wear diagnose --selftest [--quick | --cases N] [--seed S] [--json OUT]
+    ebm-wear diagnose BAG... --params P [--json OUT] [--report DIR] [--life] [--no-progress]
+    ebm-wear diagnose --selftest [--quick | --cases N] [--seed S] [--json OUT] [--no-progress]
 
 One result per unit (namespace) found in the bags (a unit's topics may be spread
 over several bags).  The JSON holds ``units`` (one diagnosis object each) and,
@@ -10,6 +10,13 @@ recording reads exactly as the spec's object.  ``--life`` adds the key ``life`` 
 monitor core (:func:`ebm_wear_monitor.replay.run.replay_unit`) over the same signals gives the
 duty-cycle summaries, whose observed clearance growth :mod:`ebm_wear_monitor.diagnosis.life` compares
 with the wear model's (issue 7 item 5).
+
+Input screening, as the monitor does it: a topic sampled below the contract's 100 Hz is refused
+(:func:`~ebm_wear_monitor.bagio.rates.check_rates`); samples with a non-finite stamp or value, or
+beyond the monitor's physical bounds (``absurd``: :func:`~ebm_wear_monitor.monitor.alignment.
+absurd_limits`), are dropped and counted in ``input_faults`` / ``input_faults_by_signal`` (the
+replay's keys), never fitted. The unit file needs ``ball_screw`` and ``actuator`` (and the wear
+model's blocks with ``--life``).
 """
 
 from __future__ import annotations
@@ -17,15 +24,17 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+import numpy as np
+
+from ebm_wear_monitor.cli.options import add_output_options, check_outputs, progress
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.outputs import check_destination, write_json
+from ebm_wear_monitor.outputs import write_json
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("bags", nargs="*", metavar="BAG", help="rosbag2 directories (sqlite3 or mcap)")
     parser.add_argument("--params", metavar="P", help="unit parameter file (YAML) or reference name")
-    parser.add_argument("--json", metavar="OUT", help="write the result as JSON to OUT")
-    parser.add_argument("--report", metavar="DIR", help="write an HTML report with plots into DIR")
+    add_output_options(parser)
     parser.add_argument("--life", action="store_true",
                         help="also the life level: the monitor core's duty-cycle summaries of the bags "
                              "(observed clearance growth) against the wear model (key 'life')")
@@ -34,6 +43,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="self-test: reduced case set (CI)")
     parser.add_argument("--cases", type=int, metavar="N", help="self-test: at most N cases")
     parser.add_argument("--seed", type=int, default=0, help="self-test: base random seed")
+
+
+def screen(signals: dict, limits: dict[str, float]) -> tuple[dict, dict[str, dict[str, int]]]:
+    """Drop and count unusable samples: ``{signal: (stamps, values)}`` kept, ``{signal: {kind: n}}``.
+
+    ``non_finite``: stamp or value NaN/inf; ``absurd``: |value| above ``limits[signal]`` (signals
+    without a limit, the motor current, are only checked for finiteness).
+    """
+    kept, faults = {}, {}
+    for name, (stamps, values) in signals.items():
+        stamps, values = np.asarray(stamps, float), np.asarray(values, float)
+        finite = np.isfinite(stamps) & np.isfinite(values)
+        absurd = finite & (np.abs(values) > limits.get(name, np.inf))
+        counts = {"non_finite": int(np.count_nonzero(~finite)), "absurd": int(np.count_nonzero(absurd))}
+        faults[name] = {k: v for k, v in counts.items() if v}
+        ok = finite & ~absurd
+        kept[name] = (stamps[ok], values[ok])
+    return kept, {k: v for k, v in faults.items() if v}
 
 
 def _print_diagnosis(res: dict) -> None:
@@ -50,6 +77,10 @@ def _print_diagnosis(res: dict) -> None:
               f"p {r['p_value']:.2g}  {pars}")
     for t in res["near_ties"]:
         print(f"  near-tie {t['between'][0]} ~ {t['between'][1]}: {t['experiment']}")
+    if res["input_faults"]:
+        print("  input faults (samples dropped): " + ", ".join(
+            f"{sig} {kind} {n}" for sig, kinds in sorted(res["input_faults_by_signal"].items())
+            for kind, n in sorted(kinds.items())))
     life = res.get("life")
     if life is not None:
         top = life["ranking"][0]
@@ -75,7 +106,11 @@ def _run_selftest(args: argparse.Namespace) -> int:
 
     if args.cases is not None and args.cases < 1:
         raise InputError("--cases must be at least 1")
-    result = run_selftest(quick=args.quick, max_cases=args.cases, seed=args.seed)
+    with progress(args, None, "self-test", "case") as bar:
+        def on_case(done: int, total: int) -> None:
+            bar.total = total
+            bar.update(done - bar.n)
+        result = run_selftest(quick=args.quick, max_cases=args.cases, seed=args.seed, on_case=on_case)
     print(format_summary(result))
     if args.json:
         write_json(args.json, result)
@@ -83,8 +118,7 @@ def _run_selftest(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    check_destination(args.json, "--json")  # before minutes of work, not after
-    check_destination(args.report, "--report", directory=True)
+    check_outputs(args)  # before minutes of work, not after
     if args.selftest:
         if args.bags:
             raise InputError("--selftest takes no BAG arguments")
@@ -93,23 +127,36 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("no BAG given (or use --selftest)")
     if not args.params:
         raise InputError("--params P is required to build the twin")
-    from ebm_wear_monitor.bagio import read_bags
+    from ebm_wear_monitor.bagio import bag_message_count, read_bags
+    from ebm_wear_monitor.bagio.rates import check_rates
     from ebm_wear_monitor.diagnosis import recording_from_signals
     from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state
-    from ebm_wear_monitor.params import load_unit
+    from ebm_wear_monitor.diagnosis.recording import SIGNALS
+    from ebm_wear_monitor.monitor import MonitorConfig
+    from ebm_wear_monitor.monitor.alignment import absurd_limits
+    from ebm_wear_monitor.params import ACTUATOR_BLOCKS, WEAR_BLOCKS, load_unit
 
-    unit = load_unit(args.params)
-    data = read_bags([Path(b) for b in args.bags])
+    unit = load_unit(args.params, ACTUATOR_BLOCKS + (WEAR_BLOCKS if args.life else ()))
+    with progress(args, bag_message_count(args.bags), "read", "msg") as bar:
+        data = read_bags([Path(b) for b in args.bags], progress=bar.update)
     if not data.units:
         raise InputError("no unit with input topics found in the bags")
+    limits = absurd_limits(MonitorConfig())
     results, states = [], []
-    for name, ud in sorted(data.units.items()):
-        rec = recording_from_signals({k: (s.stamps, s.values) for k, s in ud.signals.items()}, unit=name)
-        res, sc, ranking = diagnose_with_state(rec, unit)
-        if args.life:
-            res["life"] = _life(ud, unit)
-        results.append(res)
-        states.append((res, sc, ranking))
+    with progress(args, len(data.units), "diagnose", "unit") as bar:
+        for name, ud in sorted(data.units.items()):
+            check_rates(ud, SIGNALS)
+            signals, faults = screen({k: (s.stamps, s.values) for k, s in ud.signals.items()}, limits)
+            rec = recording_from_signals(signals, unit=name)
+            res, sc, ranking = diagnose_with_state(rec, unit)
+            res["input_faults_by_signal"] = faults
+            res["input_faults"] = {k: sum(f.get(k, 0) for f in faults.values())
+                                   for k in sorted({k for f in faults.values() for k in f})}
+            if args.life:
+                res["life"] = _life(ud, unit)
+            results.append(res)
+            states.append((res, sc, ranking))
+            bar.update()
     for res in results:
         _print_diagnosis(res)
     out = dict(results[0]) | {"units": results}
@@ -117,6 +164,7 @@ def run(args: argparse.Namespace) -> int:
         from ebm_wear_monitor.diagnosis.report import write_report
 
         write_report(args.report, states)
+        print(f"report: {Path(args.report) / 'index.html'}")
     if args.json:
         write_json(args.json, out)
     return 0

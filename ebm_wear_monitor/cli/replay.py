@@ -10,8 +10,9 @@ report. Bad input: one line on stderr, exit status 2, nothing written.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
+
+from ebm_wear_monitor.cli.options import add_output_options, check_outputs, progress
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -22,9 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--config", metavar="FILE",
                         help="monitor-core thresholds: the node's ROS parameter file (e.g. "
                              "config/wear_monitor.yaml) or a flat YAML mapping (default: the defaults)")
-    parser.add_argument("--json", metavar="OUT", help="write the replay JSON (interface.md section 4) here")
-    parser.add_argument("--report", metavar="DIR", help="write an HTML report with PNG plots into DIR")
-    parser.add_argument("--no-progress", action="store_true", help="no progress bars on stderr")
+    add_output_options(parser)
 
 
 def format_unit(entry: dict) -> str:
@@ -64,23 +63,18 @@ def format_unit(entry: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Replay, print, write JSON and report."""
-    from tqdm import tqdm
-
     from ebm_wear_monitor.bagio import bag_message_count
-    from ebm_wear_monitor.outputs import check_destination, write_json
+    from ebm_wear_monitor.outputs import write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
     from ebm_wear_monitor.replay.report import write_replay_report
     from ebm_wear_monitor.replay.run import replay_bags
 
-    check_destination(args.json, "--json")
-    check_destination(args.report, "--report", directory=True)
+    check_outputs(args)
     params = load_unit(args.params)
     config = load_monitor_config(args.config) if args.config else None
     total = bag_message_count(args.bags)
-    quiet = args.no_progress
-    with tqdm(total=total, unit="msg", desc="read", disable=quiet or None, file=sys.stderr) as read_bar, \
-            tqdm(total=total, unit="msg", desc="monitor", disable=quiet or None, file=sys.stderr) as bar:
+    with progress(args, total, "read", "msg") as read_bar, progress(args, total, "monitor", "msg") as bar:
         result = replay_bags(args.bags, params, config=config, read_progress=read_bar.update,
                              progress=bar.update)
     for unit in result.units:

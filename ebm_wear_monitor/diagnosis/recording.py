@@ -57,7 +57,7 @@ def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarr
     stamps, values = stamps[ok], values[ok]
     order = np.argsort(stamps, kind="stable")
     stamps, values = stamps[order], values[order]
-    keep = np.concatenate(([True], np.diff(stamps) > 0.0))
+    keep = np.concatenate(([True], np.diff(stamps) > 0.0))[: stamps.size]  # (an empty topic stays empty)
     return stamps[keep], values[keep]
 
 

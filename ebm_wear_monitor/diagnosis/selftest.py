@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -165,10 +166,12 @@ def simulate_case(unit: UnitParams, case: Case) -> Recording:
 
 
 def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 0,
-                 unit: UnitParams | None = None) -> dict:
+                 unit: UnitParams | None = None,
+                 on_case: Callable[[int, int], object] | None = None) -> dict:
     """Run the blind self-test; returns the JSON object of interface.md section 4 (plus details).
 
     ``seed`` shifts every case's noise seed (a different draw of the same case set).
+    ``on_case(done, total)`` is called after each case (progress bars).
     """
     unit = load_unit() if unit is None else unit
     cases = case_set(quick)[:max_cases]
@@ -190,6 +193,8 @@ def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 
             "top2_ok": bool(case.effects) and bool(case.expected & set(ranked[:2])),
             "where": [res["where"]["phase"], res["where"]["signal"]],
         })
+        if on_case is not None:
+            on_case(len(rows), len(cases))
     return summarise(rows, time.perf_counter() - t0)
 
 
@@ -233,11 +238,15 @@ def format_summary(result: dict) -> str:
     """Human-readable confusion matrix and scores."""
     lines = [f"self-test: {result['cases']} cases in {result['seconds']:.1f} s "
              f"({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz each)"]
+    # columns numbered, names in full on the rows (the same number for the same name: the diagonal)
     diag = sorted({d for row in result["confusion"].values() for d in row})
-    width = max(len(t) for t in result["confusion"]) + 2
-    lines.append(" " * width + " ".join(f"{d[:10]:>10s}" for d in diag))
+    names = sorted(set(diag) | set(result["confusion"]))
+    key = {n: f"[{i + 1}]" for i, n in enumerate(names)}
+    width = max(len(n) for n in names) + 6
+    lines.append("true \\ diagnosed".ljust(width) + " ".join(f"{key[d]:>5s}" for d in diag))
     for t, row in sorted(result["confusion"].items()):
-        lines.append(f"{t:<{width}s}" + " ".join(f"{row.get(d, 0):>10d}" for d in diag))
+        lines.append(f"{t + ' ' + key[t]:<{width}s}" + " ".join(f"{row.get(d, 0):>5d}" for d in diag))
+    lines.append("columns: " + ", ".join(f"{key[d]} {d}" for d in diag))
 
     def pct(v: float | None) -> str:
         return "n/a" if v is None else f"{100 * v:.1f} %"

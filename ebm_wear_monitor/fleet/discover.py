@@ -46,7 +46,11 @@ def discover(root: str | os.PathLike) -> dict[str, list[BagFile]]:
     if not root.is_dir():
         raise InputError(f"{root}: not a directory")
     units: dict[str, list[BagFile]] = {}
-    for folder, dirs, files in os.walk(root):
+
+    def unreadable(exc: OSError) -> None:  # os.walk would skip the folder, and its units, silently
+        raise InputError(f"{exc.filename}: cannot read this fleet folder ({exc.strerror or exc})")
+
+    for folder, dirs, files in os.walk(root, onerror=unreadable):
         here = Path(folder)
         if "metadata.yaml" in files:
             dirs.clear()

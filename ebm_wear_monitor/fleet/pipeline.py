@@ -204,14 +204,15 @@ def _previous(manifest: Manifest, folder: str, hashes: list[str], digest: str, o
 
 
 def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: UnitParams, *,
-              config: MonitorConfig | None = None, on_unit: Callable[[UnitOutcome], object] | None = None
-              ) -> FleetRun:
+              config: MonitorConfig | None = None, on_unit: Callable[[UnitOutcome], object] | None = None,
+              on_start: Callable[[int], object] | None = None) -> FleetRun:
     """Process every unit under ``root`` not already done into ``out`` on the Dask ``client``.
 
     ``config``: monitor-core thresholds (defaults when None); part of what makes a unit "done".
 
-    ``on_unit(outcome)`` is called as each unit finishes (progress bars). The
-    fleet tables are assembled afterwards with :func:`fleet.tables.assemble`.
+    ``on_start(n)`` is called once the ``n`` units to process are known, ``on_unit(outcome)`` as
+    each finishes (progress bars). The fleet tables are assembled afterwards with
+    :func:`fleet.tables.assemble`.
     """
     from dask.distributed import as_completed
 
@@ -236,6 +237,8 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
                                config=config, pure=False)
         pending[future] = (folder, unit_hashes)
     manifest.save()  # the hashes, even if the run is interrupted now
+    if on_start is not None:
+        on_start(len(pending))
     saved = time.monotonic()
     try:
         for future in as_completed(list(pending)):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -132,21 +133,31 @@ def write_unit(root: str | os.PathLike, scenario: UnitScenario, params: UnitPara
     return paths
 
 
-def generate_fleet(root: str | os.PathLike, units: list[UnitScenario], params: UnitParams,
-                   client=None, wear_scale: float = WEAR_SCALE) -> tuple[UnitParams, list[Path]]:
+def generate_fleet(root: str | os.PathLike, units: list[UnitScenario], params: UnitParams, *,
+                   client=None, wear_scale: float = WEAR_SCALE,
+                   on_unit: Callable[[], object] | None = None) -> tuple[UnitParams, list[Path]]:
     """Write every unit's bags under ``root`` (in parallel on a Dask ``client`` if given),
     ``root/params.yaml`` (``params`` accelerated by ``wear_scale``) and ``root/scenarios.json``.
 
     Returns the accelerated unit parameters (to process the fleet with) and all bag paths.
+    ``on_unit()`` is called as each unit's bags are written (progress bars).
     """
     root = Path(root)
     params = accelerated(params, wear_scale)
     root.mkdir(parents=True, exist_ok=True)
     save_unit(root / "params.yaml", params, f"synthetic fleet: {params.name}")
+    done = on_unit or (lambda: None)
     if client is None:
-        paths = [write_unit(root, s, params) for s in units]
+        paths = []
+        for s in units:
+            paths.append(write_unit(root, s, params))
+            done()
     else:
-        paths = client.gather(client.map(write_unit, [str(root)] * len(units), units, params=params,
-                                         pure=False))
+        from dask.distributed import as_completed
+
+        futures = client.map(write_unit, [str(root)] * len(units), units, params=params, pure=False)
+        for _ in as_completed(futures):
+            done()
+        paths = client.gather(futures)
     write_json(root / "scenarios.json", [dataclasses.asdict(s) for s in units])
     return params, [p for unit_paths in paths for p in unit_paths]

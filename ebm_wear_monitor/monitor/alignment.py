@@ -64,6 +64,13 @@ def ros_stamp_ns(sec: np.ndarray | int, nanosec: np.ndarray | int) -> np.ndarray
     return np.asarray(sec, dtype=np.int64) * 1_000_000_000 + np.asarray(nanosec, dtype=np.int64)
 
 
+def absurd_limits(config: MonitorConfig) -> dict[str, float]:
+    """|value| of each input signal above which a sample is ``absurd`` [rad, rad/s, N]
+    (also used by the diagnosis, which must not analyse what the monitor rejects)."""
+    return {"angle": config.max_abs_angle_rad, "velocity": config.max_speed_rad_s,
+            "axial_force": config.max_force_n}
+
+
 def stamps_to_ns(stamps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(int64 ns, usable mask) from stamps given as int64 ns (exact) or float seconds (rounded to 1 ns)."""
     stamps = np.asarray(stamps)
@@ -126,10 +133,11 @@ class InputAligner:
         self._stale = int(np.ceil(config.stale_after_s * 1e9 / q))
         self._gap = int(np.floor(config.gap_s * 1e9 / q))
         self._reanchor = int(config.reanchor_after_samples)
+        limit = absurd_limits(config)
         self._bounds = {
-            "angle": (-config.max_abs_angle_rad, config.max_abs_angle_rad),
-            "velocity": (-config.max_speed_rad_s, config.max_speed_rad_s),
-            "axial_force": (-NEGATIVE_FORCE_MULTIPLE * thresholds.force_on, config.max_force_n),
+            "angle": (-limit["angle"], limit["angle"]),
+            "velocity": (-limit["velocity"], limit["velocity"]),
+            "axial_force": (-NEGATIVE_FORCE_MULTIPLE * thresholds.force_on, limit["axial_force"]),
         }
 
     # ------------------------------------------------------------------ input

@@ -26,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor.bagio import Recording, UnitData, read_bags, read_ground_truth
+from ebm_wear_monitor.bagio.rates import check_rates
 from ebm_wear_monitor.monitor import (
     SIGNALS,
     CycleSummary,
@@ -90,8 +91,10 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
 
     With ``state`` (an earlier replay's ``UnitReplay.state``) the core continues from it, as the node
     does after a restart: counts, wear, filter and faults carry on; the applications table holds the
-    new applications only.
+    new applications only. A topic sampled below the contract's 100 Hz is refused (InputError,
+    :func:`~ebm_wear_monitor.bagio.rates.check_rates`), before any work.
     """
+    check_rates(data, SIGNALS)
     core = MonitorCore(params, config, state)
     bounds = _window_bounds(data, window_s)
     n_windows = len(next(iter(bounds.values()), []))

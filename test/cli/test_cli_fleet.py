@@ -39,7 +39,9 @@ def test_generate_and_run_on_an_existing_scheduler(tmp_path, scheduler, capsys):
     assert len(images) == 4 and all((out / "report" / i).read_bytes()[:4] == b"\x89PNG" for i in images)
     assert "train00/car0/embu0" in page
     assert (fleet / "params.yaml").exists()
-    assert main(["fleet", str(fleet), "--scheduler", scheduler, "--out", str(out), "--no-progress"]) == 0
+    # host:port without a protocol, as Dask itself accepts it (issue 13)
+    bare = scheduler.removeprefix("tcp://")
+    assert main(["fleet", str(fleet), "--scheduler", bare, "--out", str(out), "--no-progress"]) == 0
     assert "0 processed, 3 unchanged" in capsys.readouterr().out  # same bags, same unit file: skipped
 
 

@@ -54,7 +54,7 @@ def generated(tmp_path_factory, client):
     and a unit whose only bag carries the wrong message type; and the fleet's unit parameters."""
     root = tmp_path_factory.mktemp("fleet") / "fleet"
     units = scenarios(N_UNITS, seed=11, cycles_per_bag=3, bags_per_unit=2, rate_hz=100.0)
-    params, _ = generate_fleet(root, units, load_unit(), client)
+    params, _ = generate_fleet(root, units, load_unit(), client=client)
     good = root / TRUNCATED_UNIT / "2026-11-20.bag"
     bad = root / TRUNCATED_UNIT / "2026-11-30.bag"
     shutil.copytree(good, bad)
