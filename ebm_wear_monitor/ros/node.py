@@ -17,7 +17,13 @@ so the node and the offline replay give identical numbers. The node only:
 4. persists the state atomically (the core's ``save_state``: temp file, fsync,
    rename) every ``checkpoint_every_cycles`` applications and at shutdown
    (SIGINT or SIGTERM: last inputs processed, state saved, exit 0), and resumes
-   it at start.
+   it at start, only if it belongs to the unit: a state saved under another unit
+   file (``unit_digest`` differs) is refused (exit 2) or, with
+   ``on_unit_change:=archive``, moved aside and a new one started; never
+   silently continued (:func:`state_for_unit`).
+
+Namespace: the node runs under ``/embu`` (interface.md section 2) unless remapped
+with ``--ros-args -r __ns:=/train7/car3/embu2``.
 
 Executor: the EventsExecutor, spun in ``spin_once(timeout_sec=0.2)`` steps
 (spun without a timeout it hangs in rclpy 9.1.2); ``executor:=single_threaded``
@@ -35,6 +41,7 @@ import math
 import os
 import signal
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -47,8 +54,9 @@ from rclpy.signals import SignalHandlerOptions
 from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
 from ebm_wear_monitor.bagio.types import FLOAT64_STAMPED
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor import MonitorCore, load_state
-from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.monitor import MonitorCore, MonitorState, load_state
+from ebm_wear_monitor.monitor.persistence import backup_path
+from ebm_wear_monitor.params import UnitParams, load_unit
 from ebm_wear_monitor.ros import messages
 from ebm_wear_monitor.ros.diagnostics import (
     Health,
@@ -63,6 +71,8 @@ from ebm_wear_monitor.ros.parameters import MONITOR_NAMES, NodeParameters
 from ebm_wear_monitor.ros.qos import event_qos, input_qos, latched_qos
 
 NODE_NAME = "wear_monitor"
+#: the node's namespace when none is given (interface.md section 2)
+DEFAULT_NAMESPACE = "/embu"
 #: the inputs the wear monitor needs (the motor current is for the twin only)
 SIGNALS = ("angle", "velocity", "axial_force")
 STATE_FILE = "monitor_state.json"
@@ -81,6 +91,34 @@ def _check_writable(directory: Path) -> None:
         raise InputError(f"state directory {directory}: not writable ({exc.strerror or exc})") from None
 
 
+def state_for_unit(path: Path, state: MonitorState | None, unit: UnitParams, policy: str
+                   ) -> tuple[MonitorState | None, str]:
+    """The loaded ``state`` if it was saved under ``unit`` (same ``unit_digest``), with a note.
+
+    Otherwise ``policy`` ``refuse``: InputError (one line, exit 2); ``archive``: the state file and
+    its backup are renamed ``<name>.unit-<their digest>-<UTC>`` and the monitor starts anew.
+    A state without a digest (never written by this monitor) is taken as it is.
+    """
+    if state is None or not state.unit_digest or state.unit_digest == unit.digest():
+        return state, ""
+    what = (f"state {path} was saved under another unit file (unit '{state.unit_name}', digest "
+            f"{state.unit_digest}) than the one given (unit '{unit.name}', digest {unit.digest()})")
+    if policy != "archive":
+        raise InputError(f"{what}; not continuing it: give the unit file it was made with, another "
+                         "state_dir, or on_unit_change:=archive to keep it aside and start anew")
+    stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
+    moved = []
+    for file in (path, backup_path(path)):
+        if file.exists():
+            aside = file.with_name(f"{file.name}.unit-{state.unit_digest}-{stamp}")
+            try:
+                os.replace(file, aside)
+            except OSError as exc:
+                raise InputError(f"{file}: cannot archive the state ({exc.strerror or exc})") from None
+            moved.append(aside.name)
+    return None, f"{what}; archived as {', '.join(moved)}, starting anew"
+
+
 class WearMonitorNode:
     """The adapter between one rclpy ``Node`` and one ``MonitorCore`` (one EMBU)."""
 
@@ -91,6 +129,8 @@ class WearMonitorNode:
         self.state_path = params.state_dir() / STATE_FILE
         _check_writable(self.state_path.parent)
         state, problems = load_state(self.state_path)
+        state, archived = state_for_unit(self.state_path, state, self.unit, params.on_unit_change)
+        problems += [archived] if archived else []
         for problem in problems:
             node.get_logger().warning(problem)
         self.state_note = "; ".join(problems)
@@ -231,7 +271,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node = None
     try:
-        node = Node(NODE_NAME)
+        node = Node(NODE_NAME, namespace=DEFAULT_NAMESPACE)  # -r __ns:=... overrides it
         try:
             params = NodeParameters(node)
             monitor = WearMonitorNode(node, params)

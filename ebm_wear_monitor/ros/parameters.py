@@ -64,6 +64,10 @@ NODE_SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("state_dir", "",
               "directory of the persisted monitor state; empty = $XDG_STATE_HOME (or ~/.local/state)"
               "/ebm_wear_monitor/<node fully qualified name>"),
+    ParamSpec("on_unit_change", "refuse",
+              "a saved state made under another unit file (its unit_digest differs from this one's): "
+              "refuse = exit 2 with a message; archive = move it aside as <state>.unit-<digest>-<UTC> "
+              "and start anew", choices=("refuse", "archive")),
     ParamSpec("qos_reliability", "best_effort",
               "input QoS reliability: best_effort (sensor-data profile) or reliable",
               choices=("best_effort", "reliable")),

@@ -85,3 +85,35 @@ def test_a_corrupt_state_file_is_reported_kept_aside_and_the_node_starts_fresh(p
     node.send_signal(signal.SIGINT)
     assert node.wait(timeout=20) == 0
     assert (tmp_path / STATE_FILE).is_file()  # a fresh, valid state was saved at shutdown
+
+
+@pytest.mark.timeout(90)
+def test_a_state_saved_under_another_unit_file_is_refused_or_archived(procs, ros_env, tmp_path, repo) -> None:
+    """Deliverable 7 of issue 13: the state belongs to its unit; never silently continued."""
+    from ebm_wear_monitor.monitor import MonitorCore
+    from ebm_wear_monitor.monitor.persistence import load_state
+    from ebm_wear_monitor.params import load_unit
+
+    reference, accelerated = load_unit(), load_unit(repo / "bags" / "accelerated_unit.yaml")
+    assert reference.digest() != accelerated.digest()
+    MonitorCore(reference, state_path=tmp_path / STATE_FILE).save()  # a state of the reference unit
+    other = ["-p", f"unit_params_file:={repo / 'bags' / 'accelerated_unit.yaml'}"]
+    run = subprocess.run([NODE, "--ros-args", "-p", f"state_dir:={tmp_path}", *other], env=ros_env,
+                         capture_output=True, text=True, timeout=60, check=False)
+    assert run.returncode == 2, run.stderr
+    errors = [line for line in run.stderr.splitlines() if line.startswith("ebm-wear-monitor: error:")]
+    assert len(errors) == 1 and "saved under another unit file" in errors[0], run.stderr
+    assert reference.digest() in errors[0] and accelerated.digest() in errors[0]
+    assert load_state(tmp_path / STATE_FILE)[0].unit_digest == reference.digest()  # untouched
+
+    node = procs.node(*other, "-p", "on_unit_change:=archive", state_dir=tmp_path)
+    lines = procs.listener()
+    seen = lines.wait_until(lambda s: any(m["topic"] == "diagnostics" for m in s), 30)
+    kv = {v["key"]: v["value"] for v in next(m for m in seen if m["topic"] == "diagnostics")
+          ["msg"]["status"][0]["values"]}
+    assert "archived as" in kv["state_note"] and kv["duty_cycles"] == "0"
+    node.send_signal(signal.SIGINT)
+    assert node.wait(timeout=20) == 0
+    (archived,) = tmp_path.glob(f"{STATE_FILE}.unit-{reference.digest()}-*")
+    assert json.loads(archived.read_text())  # kept whole, aside
+    assert load_state(tmp_path / STATE_FILE)[0].unit_digest == accelerated.digest()
