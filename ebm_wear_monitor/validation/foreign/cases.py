@@ -1,0 +1,182 @@
+"""Cases of the foreign world: what a recording is, drawn deterministically from its seed.
+
+A :class:`Case` names its kind, its true catalog effects, its seed and any fixed choice; every
+other convention (controller variant and gains, rates, clocks, sensors, tare, offsets, namespace,
+storage, demands, hold times, gaps) is drawn from ``seed`` by :func:`realize`, so a case regenerates
+bit for bit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from .ecu import VARIANTS, EcuConfig
+from .sensors import TOPICS, Acquisition, Clock
+from .simulate import Schedule
+from .unit import Actuator
+
+KINDS = ("none", "effect", "pair", "outside", "life", "multirate")
+RATES = (200.0, 250.0, 500.0, 1000.0, 2000.0)
+FRAME_IDS = ("resolver", "embu_ecu", "load_cell", "base_link", "screw_encoder", "motor_drive",
+             "adc0", "brake_unit_2", "caliper_frame", "ecu/current_sense")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One foreign recording, complete enough to regenerate it.
+
+    ``effects``: the true *catalog* effect names (empty for ``none`` and ``outside``).
+    ``forms``: ``(name, form, magnitude)`` of every effect switched on (catalog or not); the
+    magnitude is the relative change of the quantity the effect acts on (see ``effects.py``).
+    ``fixed``: overrides of drawn conventions as ``(key, value)`` pairs (see :func:`realize`).
+    """
+
+    case_id: str
+    kind: str
+    seed: int
+    effects: tuple[str, ...] = ()
+    forms: tuple[tuple[str, str, float], ...] = ()
+    n_apps: int = 20
+    fixed: tuple[tuple[str, object], ...] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"unknown case kind {self.kind!r}; known: {KINDS}")
+
+    def option(self, key: str, default: object = None) -> object:
+        """A fixed choice of this case, or ``default``."""
+        return dict(self.fixed).get(key, default)
+
+    def to_json(self) -> dict:
+        """The case as plain JSON values."""
+        d = asdict(self)
+        d["fixed"] = {k: v for k, v in self.fixed}
+        return d
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """Everything drawn for one case: the world the simulation and acquisition run in."""
+
+    ecu: EcuConfig
+    acq: Acquisition
+    schedule: Schedule
+    cell_lag: float  # load-cell first-order lag [s]
+    namespace: str
+    storage: str
+    start_ns: int  # stamp of the recording start [ns]
+
+
+def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
+    return float(rng.uniform(lo, hi))
+
+
+def draw_ecu(rng: np.random.Generator, variant: str) -> EcuConfig:
+    """Controller settings of one recording (ranges chosen for stable, realistic loops)."""
+    rate = float(rng.choice([5_000.0, 4_000.0, 2_500.0]))
+    return EcuConfig(
+        variant=variant, rate=rate, V_bus=_u(rng, 44, 52), I_max=_u(rng, 6, 9),
+        w_max=_u(rng, 24, 32), f_current=min(600.0, rate / _u(rng, 15, 25)),
+        f_speed=_u(rng, 20, 40), f_force=_u(rng, 5, 10), f_pos=_u(rng, 4, 9), w_rel=_u(rng, 22, 34),
+        t_pos=_u(rng, 0.15, 0.3), t_park=_u(rng, 0.15, 0.45), I_park=_u(rng, 0.38, 0.55),
+        K_park=_u(rng, 8, 25), Ki_park=_u(rng, 10, 60), noise_theta=_u(rng, 0.5e-4, 5e-4),
+        noise_i=_u(rng, 0.005, 0.02), noise_f=_u(rng, 3, 20), w_filter=_u(rng, 0.3e-3, 1.5e-3),
+        trim_delay=_u(rng, 0.12, 0.2), trim_tau=_u(rng, 0.05, 0.15), F_contact=_u(rng, 150, 500),
+        w_app=_u(rng, 18, 28), V_rel=_u(rng, 15, 30), pulse_on=_u(rng, 2e-3, 6e-3),
+        pulse_period=_u(rng, 0.02, 0.05), V_pulse=_u(rng, 3, 6), dead_band=_u(rng, 5e-3, 20e-3),
+        ki_v=_u(rng, 1, 4), kd_v=_u(rng, 0.3, 0.8))
+
+
+def draw_clocks(rng: np.random.Generator, rates: tuple[float, ...] | None) -> dict[str, Clock]:
+    """Per-topic clocks: rates in 200 Hz..2 kHz (shared or not), phases, jitter, drops, frames."""
+    if rates is None:
+        base = float(rng.choice(RATES))
+        if rng.random() < 0.5:
+            rates = (base,) * 4
+        else:
+            rates = tuple(float(np.clip(base * rng.choice([0.5, 1.0, 2.0]), 200.0, 2000.0))
+                          for _ in TOPICS)
+    frames = rng.permutation(len(FRAME_IDS))
+    return {topic: Clock(rate=r, phase=_u(rng, 0, 1.0 / r), jitter=_u(rng, 0, 0.05 / r),
+                         drops=int(rng.integers(0, 6)), frame_id=FRAME_IDS[frames[k]])
+            for k, (topic, r) in enumerate(zip(TOPICS, rates, strict=True))}
+
+
+def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock]) -> Acquisition:
+    """Sensor conventions of one recording."""
+    side = str(rng.choice(["screw", "motor"]))
+    bits = int(rng.integers(16, 21) if side == "screw" else rng.integers(12, 17))
+    kind = str(rng.choice(["derivative", "moving_average", "tracking"]))
+    v_rate = clocks["screw/velocity"].rate
+    param = {"derivative": _u(rng, 0.5e-3, 3e-3),
+             "moving_average": float(max(2, round(_u(rng, 2e-3, 10e-3) * v_rate))),
+             "tracking": _u(rng, 150.0, 600.0)}[kind]
+    lag_min = _u(rng, 0.0, 0.5e-3)
+    return Acquisition(
+        clocks=clocks, encoder_side=side, encoder_bits=bits, encoder_offset=_u(rng, -1e3, 1e3),
+        velocity_kind=kind, velocity_param=param, tare=_u(rng, -400, 400),
+        noise_F=_u(rng, 5, 40), lsb_F=float(rng.choice([1.0, 2.0, 5.0])),
+        current_kind=str(rng.choice(["instant", "centered", "average"])),
+        f_pwm=float(rng.choice([8e3, 16e3, 20e3])), noise_I=_u(rng, 0.003, 0.03),
+        lsb_I=float(rng.choice([0.001, 0.005, 0.01])), lag_min=lag_min,
+        lag_max=_u(rng, lag_min, 2e-3))
+
+
+def draw_namespace(rng: np.random.Generator) -> str:
+    """Any namespace a fleet might use."""
+    style = int(rng.integers(0, 4))
+    a, b, c = (int(x) for x in rng.integers(1, 13, size=3))
+    return (f"/train{a}/car{b}/embu{c}", f"/embu{c}", f"/fleet/unit_{a:02d}{b:02d}",
+            f"/t{a}/bogie{b % 2 + 1}/axle{c % 4 + 1}/brake")[style]
+
+
+def draw_schedule(rng: np.random.Generator, n: int, act: Actuator) -> Schedule:
+    """Demands 5-28 kN, onset-to-release 0.35-0.9 s, gaps 0.3-1.5 s, reference errors ~1 mrad."""
+    return Schedule(demand=rng.uniform(5e3, 28e3, n), hold=rng.uniform(0.35, 0.9, n),
+                    gap=rng.uniform(0.3, 1.5, n), x_ag=np.full(n, act.x_ag),
+                    eps=rng.normal(0.0, _u(rng, 0.5e-3, 2.5e-3), n), lead_in=_u(rng, 0.3, 1.0))
+
+
+def realize(case: Case, act: Actuator) -> Recipe:
+    """Draw every convention of ``case`` from its seed (fixed choices override the draws).
+
+    Fixed keys: ``controller`` (a variant), ``rates`` (four topic rates, TOPICS order),
+    ``storage``, ``namespace``.
+    """
+    rng = np.random.default_rng(np.random.SeedSequence([case.seed, 0xF0E1]))
+    variant = case.option("controller") or str(rng.choice(VARIANTS))
+    ecu = draw_ecu(rng, variant)
+    clocks = draw_clocks(rng, case.option("rates"))
+    acq = draw_acquisition(rng, clocks)
+    schedule = draw_schedule(rng, case.n_apps, act)
+    return Recipe(ecu=ecu, acq=acq, schedule=schedule, cell_lag=_u(rng, 0.2e-3, 2e-3),
+                  namespace=case.option("namespace") or draw_namespace(rng),
+                  storage=case.option("storage") or str(rng.choice(["sqlite3", "mcap"])),
+                  start_ns=int(1_600_000_000 + rng.integers(0, 100_000_000)) * 1_000_000_000
+                  + int(rng.integers(0, 1_000_000_000)))
+
+
+def _none_cases(count: int, seed0: int, prefix: str) -> list[Case]:
+    """No-effect cases: controllers and storages cycle so each appears; the rest is drawn."""
+    return [Case(f"{prefix}{k:03d}", "none", seed0 + k,
+                 fixed=(("controller", VARIANTS[k % len(VARIANTS)]),
+                        ("storage", ("sqlite3", "mcap")[(k // len(VARIANTS)) % 2])))
+            for k in range(count)]
+
+
+SETS = ("quick", "full")
+
+
+def case_set(name: str) -> list[Case]:
+    """A deterministic, seeded list of cases.
+
+    ``quick``: a representative few for CI; ``full``: the validation set (see the README for
+    sizes). Unknown names raise ``ValueError`` naming the known ones.
+    """
+    if name == "quick":
+        return _none_cases(6, 1000, "none_q")
+    if name == "full":
+        return _none_cases(30, 2000, "none_")
+    raise ValueError(f"unknown case set {name!r}; known: {', '.join(SETS)}")

@@ -1,0 +1,156 @@
+"""The actuator of 004 as a batched plant, stepped with a time-stepping scheme of its own.
+
+States per application (arrays of shape ``(n,)``, one entry per brake application simulated side
+by side): motor angle ``theta`` counted from the released rest position of *that* application
+[rad], motor speed ``w`` [rad/s], armature current ``i`` [A], the screw-side angle ``q`` (equal to
+``theta`` unless a backlash effect is on) and a lagged load-cell state ``f_cell`` [N].
+
+Equations (004):
+
+* motor, eq. 7-8:      L di/dt = E - R i - K_E w,      T_m = K_T i
+* dynamics, eq. 1-2:   J_me dw/dt = T_m - r_g F - T_f,   r_g = l / (2 pi i_g)   (eq. 3-4)
+* clamp, eq. 5:        F = K_b max(0, x - x_ag),   x = r_g q   (travel from this application's rest)
+* friction, eq. 9:     sliding   T_f = (T_fc + G F) sgn(w) + B w
+                       sticking  |T_m - r_g F| <= T_fs + G F  ->  w = 0
+
+Integration (not a regularised friction law): a Moreau-type implicit step of length ``dt``.
+The current is advanced by backward Euler, ``i+ = (L i + dt (E - K_E w)) / (L + dt R)``. With the
+drive torque ``T_d = K_T i+ - r_g F + T_extra`` and the impulse ``p = J w + dt T_d``:
+
+* stuck (``w = 0``): stays stuck while ``|T_d| <= C_s`` (static level ``T_fs + G F``), else breaks
+  away: ``w+ = (p - dt C_k sgn T_d) / (J + dt B)`` with the kinetic level ``C_k = T_fc + G F``;
+* sliding: ``w+ = (p - dt C_k sgn w) / (J + dt B)``; if that changes sign the motion stops
+  (``w+ = 0``) and must break away again against ``C_s``: friction never reverses a motion.
+
+The viscous term is implicit, so the step is unconditionally stable in ``B``; the spring is
+explicit (symplectic Euler ``theta+ = theta + dt w+``), stable for ``dt`` far below
+``2 sqrt(J_me / (K_b r_g^2))`` (about 90 ms here). Effects (``effects.py``) add to the friction
+levels, the drive torque, the clamp law and the load cell through the hooks of :class:`Physics`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .unit import Actuator
+
+
+@dataclass
+class Physics:
+    """Effect hooks of one recording (defaults: the nominal 004 plant). Arrays broadcast over n.
+
+    Every hook receives plain arrays and returns an array (or float): torques in N m at the motor,
+    forces in N, angles in rad (motor side), speeds in rad/s, time in s from the demand onset.
+    """
+
+    kinetic_extra: list = field(default_factory=list)  # f(F, w, theta, t) -> extra C_k (>= 0)
+    static_extra: list = field(default_factory=list)  # f(F, theta, t) -> extra C_s
+    drive_extra: list = field(default_factory=list)  # f(theta, t) -> signed torque added to T_d
+    clamp: object = None  # f(penetration [m], K_b) -> F; None: K_b * penetration
+    cell: object = None  # f(F) -> load-cell output before lag; None: identity
+    kt_factor: float = 1.0  # motor torque (and back-EMF) constant factor
+    backlash: float = 0.0  # play between motor and screw, motor-side [rad]
+    clearance_jitter: object = None  # per-application extra clearance [m] array or None
+    viscous_factor: float = 1.0  # linear viscous B multiplier
+
+
+class Plant:
+    """``n`` applications of one unit stepped in lock-step (see module docstring)."""
+
+    def __init__(self, act: Actuator, x_ag: np.ndarray, dt: float, physics: Physics | None = None,
+                 cell_lag: float = 0.0) -> None:
+        self.act = act
+        self.phys = physics or Physics()
+        self.dt = dt
+        n = len(x_ag)
+        self.x_ag = np.asarray(x_ag, dtype=float)
+        if self.phys.clearance_jitter is not None:
+            self.x_ag = self.x_ag + np.asarray(self.phys.clearance_jitter, dtype=float)
+        self.theta = np.zeros(n)
+        self.q = np.zeros(n)
+        self.w = np.zeros(n)
+        self.i = np.zeros(n)
+        self.f_cell = np.full(n, float(self.cell_output(np.zeros(1))[0]))
+        self.t = 0.0
+        self._J = act.J_me
+        self._B = act.B * self.phys.viscous_factor
+        self._kt = act.K_T * self.phys.kt_factor
+        self._ke = act.K_E * self.phys.kt_factor
+        self._cell_a = 1.0 - np.exp(-dt / cell_lag) if cell_lag > 0 else 1.0
+        # the implicit steps of the module docstring, divided through by dt
+        self._L_dt = act.L / dt
+        self._inv_i = 1.0 / (act.L / dt + act.R)
+        self._J_dt = self._J / dt
+        self._inv_w = 1.0 / (self._J / dt + self._B)
+        self.F = np.zeros(n)
+
+    def set_state(self, theta: np.ndarray, q: np.ndarray, w: np.ndarray, i: np.ndarray, *,
+                  f_cell: np.ndarray, t: float) -> None:
+        """Restart from a saved state (copies)."""
+        self.theta, self.q, self.w, self.i = theta.copy(), q.copy(), w.copy(), i.copy()
+        self.f_cell, self.t = f_cell.copy(), t
+        self.F = self.clamp_force(self.q)
+
+    def state(self) -> tuple[np.ndarray, ...]:
+        """(theta, q, w, i, f_cell) copies."""
+        return self.theta.copy(), self.q.copy(), self.w.copy(), self.i.copy(), self.f_cell.copy()
+
+    def clamp_force(self, q: np.ndarray) -> np.ndarray:
+        """True clamp force [N] at screw-side angle ``q`` (004 eq. 5 or an effect's law)."""
+        pen = np.maximum(q * self.act.r_g - self.x_ag, 0.0)
+        if self.phys.clamp is None:
+            return self.act.K_b * pen
+        return self.phys.clamp(pen, self.act.K_b)
+
+    def cell_output(self, F: np.ndarray) -> np.ndarray:
+        """Load-cell output before its lag [N] for true clamp force ``F`` (identity by default)."""
+        return F if self.phys.cell is None else self.phys.cell(F)
+
+    def step(self, E: np.ndarray) -> None:
+        """Advance every application by ``dt`` under armature voltage ``E`` [V] (PWM average)."""
+        a, dt, ph = self.act, self.dt, self.phys
+        w, F = self.w, self.F
+        i = (self._L_dt * self.i + E - self._ke * w) * self._inv_i
+        load = a.G * F
+        c_s = a.T_fs + load
+        c_k = a.T_fc + load
+        for f in ph.kinetic_extra:
+            c_k = c_k + f(F, w, self.theta, self.t)
+        for f in ph.static_extra:
+            c_s = c_s + f(F, self.theta, self.t)
+        t_d = self._kt * i - a.r_g * F
+        for f in ph.drive_extra:
+            t_d = t_d + f(self.theta, self.t)
+        if ph.backlash > 0.0:
+            t_d = self._backlash_drive(t_d, i)
+        stuck = w == 0.0
+        direction = np.sign(np.where(stuck, t_d, w))
+        w_new = (self._J_dt * w + t_d - c_k * direction) * self._inv_w
+        w_new[np.where(stuck, np.abs(t_d) <= c_s, w_new * w <= 0.0)] = 0.0
+        self.w = w_new
+        self.i = i
+        self.theta = self.theta + dt * w_new
+        self.q = self._screw_side(self.theta) if ph.backlash > 0.0 else self.theta
+        self.F = self.clamp_force(self.q)
+        self.f_cell += self._cell_a * (self.cell_output(self.F) - self.f_cell)
+        self.t += dt
+
+    # --- backlash (an out-of-catalog effect): a play operator between motor and screw ---------
+    def _screw_side(self, theta: np.ndarray) -> np.ndarray:
+        """Screw follows the motor through a play ``b``: ``theta - b <= q <= theta``.
+
+        Under clamp load the screw rests on the forward flank (``q = theta - b``); unloaded it
+        stays where it is until a flank drags it.
+        """
+        b = self.phys.backlash
+        q = np.clip(self.q, theta - b, theta)
+        loaded = self.clamp_force(theta - b) > 0.0
+        return np.where(loaded, theta - b, q)
+
+    def _backlash_drive(self, t_d: np.ndarray, i: np.ndarray) -> np.ndarray:
+        """Inside the play (no flank engaged) the motor sees no clamp load torque."""
+        gap = self.theta - self.q
+        free = (gap > 1e-12) & (gap < self.phys.backlash - 1e-12)
+        return np.where(free, self._kt * i, t_d)

@@ -1,0 +1,144 @@
+"""A case becomes a rosbag2 directory with its ground truth: simulate, acquire, write."""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from . import sensors
+from .bag import write_bag
+from .cases import Case, Recipe, realize
+from .plant import Physics
+from .simulate import PLANT_RATE, Trajectory, simulate
+from .unit import REFERENCE_UNIT, Actuator, load_actuator
+
+GENERATOR = "ebm_wear_monitor.validation.foreign"
+VERSION = 1
+
+
+def physics_of(case: Case, act: Actuator, rng: np.random.Generator) -> tuple[Physics, list[dict]]:
+    """Effect hooks of ``case`` and their truth records (none until effects are switched on)."""
+    if case.forms:
+        raise ValueError(f"case {case.case_id}: effects are not available in this generator version")
+    return Physics(), []
+
+
+def acquire(act: Actuator, recipe: Recipe, tr: Trajectory, rng: np.random.Generator
+            ) -> dict[str, dict]:
+    """Sample every topic by its clock and sensor convention.
+
+    Returns topic -> ``{"t": sample instants [s], "stamp_ns", "log_ns", "value"}``.
+    """
+    acq = recipe.acq
+    duration = tr.t[-1] + 1.0 / PLANT_RATE
+    out = {}
+    for topic in sensors.TOPICS:
+        clock = acq.clocks[topic]
+        t = sensors.sample_times(clock, duration, rng)
+        if topic == "screw/angle":
+            value = sensors.encoder(acq, tr, t, act.i_g)
+        elif topic == "screw/velocity":
+            value = sensors.velocity(acq, sensors.encoder(acq, tr, t, act.i_g), clock.rate)
+        elif topic == "axial_force":
+            value = sensors.force(acq, tr, t, rng)
+        else:
+            value = sensors.current(acq, tr, t, v_bus=recipe.ecu.V_bus, inductance=act.L,
+                                    control_rate=recipe.ecu.rate, rng=rng)
+        stamp = recipe.start_ns + np.round(t * 1e9).astype(np.int64)
+        lag = np.round(rng.uniform(acq.lag_min, acq.lag_max, t.size) * 1e9).astype(np.int64)
+        log = np.maximum.accumulate(stamp + lag)  # one topic is received in order (FIFO)
+        out[topic] = {"t": t, "stamp_ns": stamp, "log_ns": log, "value": value}
+    return out
+
+
+def _sensor_rest(act: Actuator, recipe: Recipe, tr: Trajectory) -> np.ndarray:
+    """True (unquantised) encoder reading at each application's rest, screw angle [rad]."""
+    acq = recipe.acq
+    idx = np.round(tr.onset * PLANT_RATE).astype(int)
+    if acq.encoder_side == "screw":
+        return tr.q[idx] / act.i_g + acq.encoder_offset
+    return (tr.theta[idx] + acq.encoder_offset) / act.i_g
+
+
+def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, clearance: np.ndarray,
+                 effects: list[dict], samples: dict[str, dict], unit: Path) -> dict:
+    """The sidecar: the project's schema per unit, everything else under ``"foreign"``."""
+    acq, sched, start = recipe.acq, recipe.schedule, recipe.start_ns * 1e-9
+    limit = act.clearance_limit
+    over = np.flatnonzero(clearance >= limit)
+    eol = float(over[0]) if over.size else None
+    catalog = {e["name"]: e for e in effects if e["catalog"]}
+    topics = {}
+    for topic, s in samples.items():
+        c = acq.clocks[topic]
+        topics[f"{recipe.namespace}/{topic}"] = {
+            "rate_hz": c.rate, "phase_s": c.phase, "jitter_std_s": c.jitter, "dropped": c.drops,
+            "frame_id": c.frame_id, "messages": int(s["t"].size)}
+
+    def stamps(x: np.ndarray) -> list[float]:
+        return [float(start + v) for v in x]
+
+    foreign = {
+        "case_id": case.case_id, "kind": case.kind, "seed": case.seed, "case": case.to_json(),
+        "catalog_effects": list(case.effects),
+        "effects_detail": effects,
+        "unit_file": unit.name,
+        "unit_sha256": hashlib.sha256(unit.read_bytes()).hexdigest(),
+        "controller": asdict(recipe.ecu),
+        "namespace": recipe.namespace, "storage": recipe.storage, "start_stamp_s": start,
+        "topics": topics,
+        "log_time_lag_s": {"min": acq.lag_min, "max": acq.lag_max,
+                           "meaning": "bag log time = header stamp + U(min, max)"},
+        "encoder": {"side": acq.encoder_side, "bits": acq.encoder_bits,
+                    "offset_rad": acq.encoder_offset,
+                    "offset_frame": "screw" if acq.encoder_side == "screw" else "motor",
+                    "quantum_screw_rad": 2 * np.pi / 2**acq.encoder_bits
+                    / (1.0 if acq.encoder_side == "screw" else act.i_g)},
+        "rest_angle_sensor_rad": _sensor_rest(act, recipe, tr).tolist(),
+        "rest_angle_screw_rad": (tr.rest / act.i_g).tolist(),
+        "velocity": {"estimator": acq.velocity_kind, "parameter": acq.velocity_param,
+                     "parameter_meaning": {"derivative": "low-pass time constant [s]",
+                                           "moving_average": "window length [samples]",
+                                           "tracking": "observer natural frequency [rad/s]"}
+                     [acq.velocity_kind],
+                     "lag_s": acq.velocity_lag(acq.clocks["screw/velocity"].rate)},
+        "force": {"tare_N": acq.tare, "lag_s": recipe.cell_lag, "noise_std_N": acq.noise_F,
+                  "lsb_N": acq.lsb_F},
+        "current": {"sampling": acq.current_kind, "pwm_hz": acq.f_pwm, "noise_std_A": acq.noise_I,
+                    "lsb_A": acq.lsb_I, "average_period_s": 1.0 / recipe.ecu.rate},
+        "applications": {
+            "demand_N": sched.demand.tolist(), "hold_s": sched.hold.tolist(),
+            "reference_error_screw_rad": sched.eps.tolist(),
+            "onset_stamp_s": stamps(tr.onset), "contact_stamp_s": stamps(tr.contact),
+            "release_stamp_s": stamps(tr.release), "unload_stamp_s": stamps(tr.unload),
+            "motor_off_stamp_s": stamps(tr.off), "peak_force_N": tr.peak_force.tolist(),
+            "held_force_N": tr.held_force.tolist(), "clearance_m": clearance.tolist()},
+        "plant_rate_hz": PLANT_RATE,
+        "nominal": asdict(act),
+    }
+    unit_entry = {"clearance_limit_m": limit, "eol_cycles": eol, "cycles_at_start": 0,
+                  "clearance_m": clearance.tolist(), "effects": catalog, "foreign": foreign}
+    return {"units": {recipe.namespace: unit_entry},
+            "generator": {"name": GENERATOR, "version": VERSION}}
+
+
+def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNIT) -> Path:
+    """Generate ``case`` into ``out_dir/<case_id>`` (rosbag2 + ``ground_truth.json``); its path."""
+    unit = Path(unit)
+    act = load_actuator(unit)
+    recipe = realize(case, act)
+    seeds = np.random.SeedSequence([case.seed, 0x5EED]).spawn(3)
+    phys, effects = physics_of(case, act, np.random.default_rng(seeds[0]))
+    tr = simulate(act, phys, recipe.ecu, recipe.schedule, cell_lag=recipe.cell_lag,
+                  seed=int(np.random.default_rng(seeds[1]).integers(2**31)))
+    clearance = recipe.schedule.x_ag + (0.0 if phys.clearance_jitter is None else phys.clearance_jitter)
+    samples = acquire(act, recipe, tr, np.random.default_rng(seeds[2]))
+    truth = ground_truth(case, act, recipe, tr, clearance=np.asarray(clearance, dtype=float),
+                         effects=effects, samples=samples, unit=unit)
+    topics = {f"{recipe.namespace}/{topic}": (s["stamp_ns"], s["log_ns"], s["value"],
+                                              recipe.acq.clocks[topic].frame_id)
+              for topic, s in samples.items()}
+    return write_bag(Path(out_dir) / case.case_id, recipe.storage, topics, truth)
