@@ -13,6 +13,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from .ecu import VARIANTS, EcuConfig
+from .effects import CATALOG, FORMS, OUTSIDE
 from .sensors import TOPICS, Acquisition, Clock
 from .simulate import Schedule
 from .unit import Actuator
@@ -80,7 +81,7 @@ def draw_ecu(rng: np.random.Generator, variant: str) -> EcuConfig:
         variant=variant, rate=rate, V_bus=_u(rng, 44, 52), I_max=_u(rng, 6, 9),
         w_max=_u(rng, 24, 32), f_current=min(600.0, rate / _u(rng, 15, 25)),
         f_speed=_u(rng, 20, 40), f_force=_u(rng, 5, 10), f_pos=_u(rng, 4, 9), w_rel=_u(rng, 22, 34),
-        t_pos=_u(rng, 0.15, 0.3), t_park=_u(rng, 0.15, 0.45), I_park=_u(rng, 0.38, 0.55),
+        t_pos=_u(rng, 0.3, 0.4), t_park=_u(rng, 0.15, 0.35), I_park=_u(rng, 0.38, 0.55),
         K_park=_u(rng, 8, 25), Ki_park=_u(rng, 10, 60), noise_theta=_u(rng, 0.5e-4, 5e-4),
         noise_i=_u(rng, 0.005, 0.02), noise_f=_u(rng, 3, 20), w_filter=_u(rng, 0.3e-3, 1.5e-3),
         trim_delay=_u(rng, 0.12, 0.2), trim_tau=_u(rng, 0.05, 0.15), F_contact=_u(rng, 150, 500),
@@ -166,17 +167,93 @@ def _none_cases(count: int, seed0: int, prefix: str) -> list[Case]:
             for k in range(count)]
 
 
+#: Magnitude ranges of the accuracy cases (relative change of the named quantity, >= 10 %) and
+#: whether the sign is drawn too (effects.py names each quantity).
+MAGNITUDE = {"viscous_friction": (0.5, 1.5, False), "load_friction": (0.3, 1.0, False),
+             "efficiency_variation": (0.15, 0.4, False), "preload_change": (0.15, 0.4, True),
+             "stribeck": (0.2, 0.6, False), "stiffness_nonlinearity": (0.1, 0.3, False),
+             "clearance_growth": (0.1, 0.4, False), "force_sensor_bias": (0.1, 0.2, True),
+             "torque_constant_loss": (0.1, 0.2, False), "backlash": (0.1, 0.25, False),
+             "torque_ripple": (0.25, 0.5, False), "friction_drift": (0.2, 0.4, False)}
+SMALL = (0.05, 0.10)  # magnitude range of the small cases
+PAIRS = ((("load_friction", "power"), ("viscous_friction", "shear_thinning")),
+         (("clearance_growth", "scatter"), ("force_sensor_bias", "gain_offset_quadratic")),
+         (("stribeck", "exponential"), ("stiffness_nonlinearity", "bilinear")),
+         (("preload_change", "relief"), ("efficiency_variation", "churning")),
+         (("viscous_friction", "power"), ("clearance_growth", "ramp")),
+         (("load_friction", "coaxiality"), ("stiffness_nonlinearity", "power")),
+         (("efficiency_variation", "lowspeed_load"), ("force_sensor_bias", "thermal_drift")),
+         (("stribeck", "rational"), ("load_friction", "power")),
+         (("preload_change", "coulomb_only"), ("clearance_growth", "scatter")),
+         (("stiffness_nonlinearity", "power"), ("viscous_friction", "power")))
+
+
+def _magnitude(rng: np.random.Generator, name: str, small: bool = False) -> float:
+    lo, hi, signed = MAGNITUDE[name]
+    if small:
+        lo, hi = SMALL
+    value = round(float(rng.uniform(lo, hi)), 3)
+    return -value if signed and rng.random() < 0.5 else value
+
+
+def _effect_case(case_id: str, seed: int, forms: tuple, variant: str) -> Case:
+    catalog = tuple(name for name, _, _ in forms if name in CATALOG)
+    kind = ("none", "effect", "pair")[len(catalog)] if catalog else "outside"
+    return Case(case_id, kind, seed, effects=catalog, forms=forms,
+                fixed=(("controller", variant),))
+
+
+def _effect_cases(seed0: int, *, forms_per_effect: int, variants: int, small: bool,
+                  outside_per_kind: int, pairs: int) -> list[Case]:
+    rng = np.random.default_rng(seed0)
+    cases, k = [], 0
+    for j, name in enumerate(CATALOG):
+        forms = list(FORMS[name])
+        chosen = forms if forms_per_effect == len(forms) else [forms[j % len(forms)]]
+        for f, form in enumerate(chosen):
+            for v in range(variants):
+                s = _magnitude(rng, name)
+                cases.append(_effect_case(f"{name}.{form}.{v}", seed0 + k, ((name, form, s),),
+                                          VARIANTS[(k + f) % len(VARIANTS)]))
+                k += 1
+    if small:
+        for j, name in enumerate(CATALOG):
+            form = list(FORMS[name])[j % 2]
+            cases.append(_effect_case(f"{name}.{form}.small", seed0 + k,
+                                      ((name, form, _magnitude(rng, name, small=True)),),
+                                      VARIANTS[k % len(VARIANTS)]))
+            k += 1
+    for name in OUTSIDE:
+        forms = list(FORMS[name])
+        for v in range(outside_per_kind):
+            form = forms[v % len(forms)]
+            cases.append(_effect_case(f"{name}.{form}.{v}", seed0 + k,
+                                      ((name, form, _magnitude(rng, name)),),
+                                      VARIANTS[k % len(VARIANTS)]))
+            k += 1
+    for j, pair in enumerate(PAIRS[:pairs]):
+        forms = tuple((name, form, _magnitude(rng, name)) for name, form in pair)
+        cases.append(_effect_case(f"pair.{pair[0][0]}+{pair[1][0]}.{j}", seed0 + k, forms,
+                                  VARIANTS[k % len(VARIANTS)]))
+        k += 1
+    return cases
+
+
 SETS = ("quick", "full")
 
 
 def case_set(name: str) -> list[Case]:
     """A deterministic, seeded list of cases.
 
-    ``quick``: a representative few for CI; ``full``: the validation set (see the README for
-    sizes). Unknown names raise ``ValueError`` naming the known ones.
+    ``quick`` (CI): 6 no-effect, one case per catalog effect (forms alternate), 4 outside-catalog
+    (one per kind), 3 two-effect. ``full``: 30 no-effect, every catalog effect x 2 forms x 2
+    (magnitude, controller), 8 small (5-10 %) effect cases, 8 outside-catalog (2 per kind),
+    10 two-effect. Unknown names raise ``ValueError`` naming the known ones.
     """
     if name == "quick":
-        return _none_cases(6, 1000, "none_q")
+        return _none_cases(6, 1000, "none_q") + _effect_cases(
+            3000, forms_per_effect=1, variants=1, small=False, outside_per_kind=1, pairs=3)
     if name == "full":
-        return _none_cases(30, 2000, "none_")
+        return _none_cases(30, 2000, "none_") + _effect_cases(
+            4000, forms_per_effect=2, variants=2, small=True, outside_per_kind=2, pairs=10)
     raise ValueError(f"unknown case set {name!r}; known: {', '.join(SETS)}")

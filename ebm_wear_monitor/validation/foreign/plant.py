@@ -39,43 +39,56 @@ from .unit import Actuator
 
 @dataclass
 class Physics:
-    """Effect hooks of one recording (defaults: the nominal 004 plant). Arrays broadcast over n.
+    """Effect hooks of one recording (defaults: the nominal 004 plant).
 
-    Every hook receives plain arrays and returns an array (or float): torques in N m at the motor,
-    forces in N, angles in rad (motor side), speeds in rad/s, time in s from the demand onset.
+    Hooks receive arrays over the applications of the batch and return arrays: torques in N m at
+    the motor, forces in N, speeds in rad/s, ``th`` the *absolute* motor angle (this
+    application's rest angle ``origin`` plus its travel from there) [rad]. Per-application
+    parameters live in the hooks' closures, in batch order.
     """
 
-    kinetic_extra: list = field(default_factory=list)  # f(F, w, theta, t) -> extra C_k (>= 0)
-    static_extra: list = field(default_factory=list)  # f(F, theta, t) -> extra C_s
-    drive_extra: list = field(default_factory=list)  # f(theta, t) -> signed torque added to T_d
+    kinetic_extra: list = field(default_factory=list)  # f(F, w, th) -> added to C_k
+    static_extra: list = field(default_factory=list)  # f(F, th) -> added to C_s
+    drive_extra: list = field(default_factory=list)  # f(th) -> signed torque added to T_d
     clamp: object = None  # f(penetration [m], K_b) -> F; None: K_b * penetration
     cell: object = None  # f(F) -> load-cell output before lag; None: identity
     kt_factor: float = 1.0  # motor torque (and back-EMF) constant factor
     backlash: float = 0.0  # play between motor and screw, motor-side [rad]
-    clearance_jitter: object = None  # per-application extra clearance [m] array or None
-    viscous_factor: float = 1.0  # linear viscous B multiplier
+    clearance_extra: object = None  # per-application extra clearance [m] or None
+    absolute: bool = False  # hooks depend on the absolute angle (origin must be known)
+
+    @property
+    def needs_history(self) -> bool:
+        """Whether an application depends on where the previous one left the drive."""
+        return self.absolute or self.backlash > 0.0
 
 
 class Plant:
-    """``n`` applications of one unit stepped in lock-step (see module docstring)."""
+    """``n`` applications of one unit stepped in lock-step (see module docstring).
+
+    ``origin``: absolute motor angle of each application's rest (used by angle-periodic hooks);
+    ``gap0``: play ``theta - q`` at rest (backlash only): the motor starts that far ahead of the nut.
+    """
 
     def __init__(self, act: Actuator, x_ag: np.ndarray, dt: float, physics: Physics | None = None,
-                 cell_lag: float = 0.0) -> None:
+                 *, cell_lag: float = 0.0, origin: np.ndarray | None = None,
+                 gap0: np.ndarray | None = None) -> None:
         self.act = act
         self.phys = physics or Physics()
         self.dt = dt
         n = len(x_ag)
         self.x_ag = np.asarray(x_ag, dtype=float)
-        if self.phys.clearance_jitter is not None:
-            self.x_ag = self.x_ag + np.asarray(self.phys.clearance_jitter, dtype=float)
-        self.theta = np.zeros(n)
-        self.q = np.zeros(n)
+        if self.phys.clearance_extra is not None:
+            self.x_ag = self.x_ag + np.asarray(self.phys.clearance_extra, dtype=float)
+        self.origin = np.zeros(n) if origin is None else np.asarray(origin, dtype=float)
+        self.q = np.zeros(n)  # the nut at this application's rest
+        self.theta = np.zeros(n) if gap0 is None else np.asarray(gap0, dtype=float).copy()
         self.w = np.zeros(n)
         self.i = np.zeros(n)
-        self.f_cell = np.full(n, float(self.cell_output(np.zeros(1))[0]))
+        self.F = np.zeros(n)
+        self.f_cell = self.cell_output(self.F)
         self.t = 0.0
         self._J = act.J_me
-        self._B = act.B * self.phys.viscous_factor
         self._kt = act.K_T * self.phys.kt_factor
         self._ke = act.K_E * self.phys.kt_factor
         self._cell_a = 1.0 - np.exp(-dt / cell_lag) if cell_lag > 0 else 1.0
@@ -83,8 +96,7 @@ class Plant:
         self._L_dt = act.L / dt
         self._inv_i = 1.0 / (act.L / dt + act.R)
         self._J_dt = self._J / dt
-        self._inv_w = 1.0 / (self._J / dt + self._B)
-        self.F = np.zeros(n)
+        self._inv_w = 1.0 / (self._J / dt + act.B)
 
     def set_state(self, theta: np.ndarray, q: np.ndarray, w: np.ndarray, i: np.ndarray, *,
                   f_cell: np.ndarray, t: float) -> None:
@@ -106,7 +118,7 @@ class Plant:
 
     def cell_output(self, F: np.ndarray) -> np.ndarray:
         """Load-cell output before its lag [N] for true clamp force ``F`` (identity by default)."""
-        return F if self.phys.cell is None else self.phys.cell(F)
+        return F.copy() if self.phys.cell is None else self.phys.cell(F)
 
     def step(self, E: np.ndarray) -> None:
         """Advance every application by ``dt`` under armature voltage ``E`` [V] (PWM average)."""
@@ -116,13 +128,15 @@ class Plant:
         load = a.G * F
         c_s = a.T_fs + load
         c_k = a.T_fc + load
-        for f in ph.kinetic_extra:
-            c_k = c_k + f(F, w, self.theta, self.t)
-        for f in ph.static_extra:
-            c_s = c_s + f(F, self.theta, self.t)
+        if ph.kinetic_extra or ph.static_extra or ph.drive_extra:
+            th = self.theta + self.origin
+            for f in ph.kinetic_extra:
+                c_k = c_k + f(F, w, th)
+            for f in ph.static_extra:
+                c_s = c_s + f(F, th)
         t_d = self._kt * i - a.r_g * F
         for f in ph.drive_extra:
-            t_d = t_d + f(self.theta, self.t)
+            t_d = t_d + f(th)
         if ph.backlash > 0.0:
             t_d = self._backlash_drive(t_d, i)
         stuck = w == 0.0

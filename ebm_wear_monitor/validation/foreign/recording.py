@@ -11,19 +11,20 @@ import numpy as np
 from . import sensors
 from .bag import write_bag
 from .cases import Case, Recipe, realize
+from .effects import Context, build
 from .plant import Physics
-from .simulate import PLANT_RATE, Trajectory, simulate
+from .simulate import PLANT_RATE, Trajectory, onset_times, simulate
 from .unit import REFERENCE_UNIT, Actuator, load_actuator
 
 GENERATOR = "ebm_wear_monitor.validation.foreign"
 VERSION = 1
 
 
-def physics_of(case: Case, act: Actuator, rng: np.random.Generator) -> tuple[Physics, list[dict]]:
-    """Effect hooks of ``case`` and their truth records (none until effects are switched on)."""
-    if case.forms:
-        raise ValueError(f"case {case.case_id}: effects are not available in this generator version")
-    return Physics(), []
+def physics_of(case: Case, act: Actuator, recipe: Recipe, rng: np.random.Generator
+               ) -> tuple[Physics, list[dict]]:
+    """Effect hooks of ``case`` and their truth records (``effects.py``)."""
+    onset, duration = onset_times(recipe.schedule, recipe.ecu)
+    return build(case.forms, Context(act=act, onset=onset, duration=duration, rng=rng))
 
 
 def acquire(act: Actuator, recipe: Recipe, tr: Trajectory, rng: np.random.Generator
@@ -117,6 +118,7 @@ def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, c
             "motor_off_stamp_s": stamps(tr.off), "peak_force_N": tr.peak_force.tolist(),
             "held_force_N": tr.held_force.tolist(), "clearance_m": clearance.tolist()},
         "plant_rate_hz": PLANT_RATE,
+        "stitch_error": tr.stitch_error,
         "nominal": asdict(act),
     }
     unit_entry = {"clearance_limit_m": limit, "eol_cycles": eol, "cycles_at_start": 0,
@@ -131,10 +133,10 @@ def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNI
     act = load_actuator(unit)
     recipe = realize(case, act)
     seeds = np.random.SeedSequence([case.seed, 0x5EED]).spawn(3)
-    phys, effects = physics_of(case, act, np.random.default_rng(seeds[0]))
+    phys, effects = physics_of(case, act, recipe, np.random.default_rng(seeds[0]))
     tr = simulate(act, phys, recipe.ecu, recipe.schedule, cell_lag=recipe.cell_lag,
                   seed=int(np.random.default_rng(seeds[1]).integers(2**31)))
-    clearance = recipe.schedule.x_ag + (0.0 if phys.clearance_jitter is None else phys.clearance_jitter)
+    clearance = recipe.schedule.x_ag + (0.0 if phys.clearance_extra is None else phys.clearance_extra)
     samples = acquire(act, recipe, tr, np.random.default_rng(seeds[2]))
     truth = ground_truth(case, act, recipe, tr, clearance=np.asarray(clearance, dtype=float),
                          effects=effects, samples=samples, unit=unit)

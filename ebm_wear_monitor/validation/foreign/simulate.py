@@ -51,14 +51,15 @@ class Trajectory:
     """The true, continuous (``PLANT_RATE`` grid) signals of a recording; times from its start."""
 
     t: np.ndarray  # [s]
-    theta: np.ndarray  # motor angle, absolute (rest of application 0 = 0) [rad]
+    theta: np.ndarray  # motor angle, absolute (nut rest of application 0 = 0) [rad]
     q: np.ndarray  # screw-side angle referred to the motor (= theta without backlash) [rad]
     w: np.ndarray  # motor speed [rad/s]
     i: np.ndarray  # armature current [A]
     E: np.ndarray  # armature voltage, PWM average [V]
     F: np.ndarray  # true clamp force [N]
     f_cell: np.ndarray  # load-cell output after its lag, before tare and noise [N]
-    rest: np.ndarray  # motor angle at rest before each application (absolute) [rad]
+    rest: np.ndarray  # nut (screw-side) angle at rest before each application, motor rad [rad]
+    gap_end: np.ndarray  # play theta - q left at the end of each application [rad]
     onset: np.ndarray  # demand onset time of each application [s]
     release: np.ndarray  # release command time [s]
     off: np.ndarray  # bridge switched off [s]
@@ -66,6 +67,18 @@ class Trajectory:
     unload: np.ndarray  # last instant with clamp force > 0 [s]
     peak_force: np.ndarray  # largest true clamp force of each application [N]
     held_force: np.ndarray  # true clamp force at the release command [N]
+    stitch_error: dict | None = None  # see :func:`simulate` (None: exact, nothing to stitch)
+
+
+def onset_times(sched: Schedule, cfg: EcuConfig) -> tuple[np.ndarray, float]:
+    """Demand onset of every application and the recording length [s], as :func:`simulate`
+    lays them out (known before simulating: every segment length is fixed by the schedule)."""
+    n_hold = np.round(sched.hold * PLANT_RATE).astype(int)
+    n_rel = round((cfg.t_pos + cfg.t_park + OFF_TAIL) * PLANT_RATE)
+    n_gap = np.round(sched.gap * PLANT_RATE).astype(int)
+    ends = round(sched.lead_in * PLANT_RATE) + np.cumsum(n_hold + n_rel + n_gap)
+    starts = np.concatenate([[round(sched.lead_in * PLANT_RATE)], ends[:-1]])
+    return starts / PLANT_RATE, float(ends[-1]) / PLANT_RATE
 
 
 def _run(plant: Plant, ecu: Ecu, n_steps: int, *, every: int, control,
@@ -99,52 +112,76 @@ def _run(plant: Plant, ecu: Ecu, n_steps: int, *, every: int, control,
     return out, saved
 
 
-def _release(act: Actuator, phys: Physics, cfg: EcuConfig, sched: Schedule, *, saved: list,
-             target: np.ndarray, cell_lag: float, rng: np.random.Generator
-             ) -> dict[str, np.ndarray]:
-    dt = 1.0 / PLANT_RATE
-    n = len(saved)
-    plant = Plant(act, sched.x_ag, dt, phys, cell_lag)
+def _release(plant: Plant, ecu: Ecu, saved: list, target: np.ndarray) -> dict[str, np.ndarray]:
+    """Run the release of every application from its saved state toward ``target`` [rad]."""
     cols = [np.array([s[j] for s in saved]) for j in range(5)]
     plant.set_state(*cols[:4], f_cell=cols[4], t=0.0)
-    ecu = Ecu(cfg, act, n, rng)
+    ecu.reset()
     ecu.w_est = cols[2].copy()
+    cfg = ecu.cfg
     steps = round((cfg.t_pos + cfg.t_park + OFF_TAIL) * PLANT_RATE)
-    every = max(1, round(PLANT_RATE / cfg.rate))
-    rows, _ = _run(plant, ecu, steps, every=every,
+    rows, _ = _run(plant, ecu, steps, every=max(1, round(PLANT_RATE / cfg.rate)),
                    control=lambda t, th, im, fm: ecu.release(t, target, th, im, fm))
     return rows
 
 
-def simulate(act: Actuator, phys: Physics, cfg: EcuConfig, sched: Schedule, *, cell_lag: float,
-             seed: int) -> Trajectory:
-    """Simulate every application of ``sched`` and stitch them into one trajectory."""
+def _once(act: Actuator, phys: Physics, cfg: EcuConfig, sched: Schedule, *, cell_lag: float,
+          seed: int, origin: np.ndarray, gap0: np.ndarray) -> Trajectory:
+    """One simulation of every application given where each starts (see the module docstring)."""
     dt = 1.0 / PLANT_RATE
     n = len(sched.demand)
-    every = max(1, round(PLANT_RATE / cfg.rate))
     seeds = np.random.SeedSequence(seed).spawn(3)
-    plant = Plant(act, sched.x_ag, dt, phys, cell_lag)
+
+    def plant() -> Plant:
+        return Plant(act, sched.x_ag, dt, phys, cell_lag=cell_lag, origin=origin, gap0=gap0)
+
+    apply_plant = plant()
     ecu = Ecu(cfg, act, n, np.random.default_rng(seeds[0]))
     n_hold = np.round(sched.hold * PLANT_RATE).astype(int)
     demand = np.asarray(sched.demand, dtype=float)
-    apply_rows, saved = _run(plant, ecu, int(n_hold.max()) + 1, every=every,
+    apply_rows, saved = _run(apply_plant, ecu, int(n_hold.max()) + 1,
+                             every=max(1, round(PLANT_RATE / cfg.rate)),
                              control=lambda t, th, im, fm: ecu.apply(t, demand, th, im, fm),
                              save_at=n_hold)
     eps_m = sched.eps * act.i_g
-    first = _release(act, phys, cfg, sched, saved=saved, target=eps_m, cell_lag=cell_lag,
-                     rng=np.random.default_rng(seeds[1]))
+    first = _release(plant(), Ecu(cfg, act, n, np.random.default_rng(seeds[1])), saved, eps_m)
     dead = first["theta"][-1] - eps_m  # dead-band error of each application's park (pass 1)
     rest_pred = np.zeros(n)
     rest_pred[1:] = eps_m[:-1] + dead[:-1]
-    rel = _release(act, phys, cfg, sched, saved=saved, target=eps_m - rest_pred, cell_lag=cell_lag,
-                   rng=np.random.default_rng(seeds[2]))
-    return _stitch(sched, apply_rows, n_hold, rel=rel, plant=plant, dt=dt)
+    rel = _release(plant(), Ecu(cfg, act, n, np.random.default_rng(seeds[2])), saved,
+                   eps_m - rest_pred)
+    return _stitch(sched, apply_rows, n_hold, rel=rel, idle_cell=apply_plant.cell_output(
+        np.zeros(n)), gap0=gap0)
 
 
-def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict, plant: Plant,
-            dt: float) -> Trajectory:
+def simulate(act: Actuator, phys: Physics, cfg: EcuConfig, sched: Schedule, *, cell_lag: float,
+             seed: int) -> Trajectory:
+    """Simulate every application of ``sched`` and stitch them into one trajectory.
+
+    When an application depends on where the previous one left the drive (angle-periodic effects,
+    backlash), the recording is simulated twice: the second run starts each application at the
+    rest angle and play of the first. ``Trajectory.stitch_error`` reports what remains: the
+    largest jump of the motor angle at an application start [rad] and the largest difference
+    between the rest angle a hook assumed and the simulated one [rad].
+    """
+    n = len(sched.demand)
+    zeros = np.zeros(n)
+    tr = _once(act, phys, cfg, sched, cell_lag=cell_lag, seed=seed, origin=zeros, gap0=zeros)
+    if phys.needs_history:
+        origin, gap0 = tr.rest.copy(), np.concatenate([[0.0], tr.gap_end[:-1]])
+        tr = _once(act, phys, cfg, sched, cell_lag=cell_lag, seed=seed, origin=origin, gap0=gap0)
+        tr.stitch_error = {"motor_angle_jump_rad": float(np.max(np.abs(
+            gap0[1:] - tr.gap_end[:-1]), initial=0.0)),
+            "origin_error_rad": float(np.max(np.abs(tr.rest - origin)))}
+    return tr
+
+
+def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
+            idle_cell: np.ndarray, gap0: np.ndarray) -> Trajectory:
     """Lay the applications end to end on one grid: lead-in, then apply + hold, release and
-    idle gap of each, angles shifted by the rest angle each application started from."""
+    idle gap of each, angles shifted by the nut's rest angle each application started from
+    (the motor starts ``gap0`` ahead of it)."""
+    dt = 1.0 / PLANT_RATE
     n = len(sched.demand)
     n_rel = rel["theta"].shape[0]
     n_gap = np.round(sched.gap * PLANT_RATE).astype(int)
@@ -152,8 +189,7 @@ def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
     total = n_lead + int(np.sum(n_hold + n_rel + n_gap))
     keys = ("theta", "q", "w", "i", "E", "F", "f_cell")
     sig = {k: np.empty(total) for k in keys}
-    idle_cell = float(plant.cell_output(np.zeros(1))[0])
-    rest = np.zeros(n)
+    rest, gap_end = np.zeros(n), np.zeros(n)
     onset, release, off = np.zeros(n), np.zeros(n), np.zeros(n)
     pos = 0
 
@@ -165,7 +201,7 @@ def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
         sig["f_cell"][pos:pos + count] = cell
         pos += count
 
-    idle(n_lead, 0.0, 0.0, idle_cell)
+    idle(n_lead, gap0[0], 0.0, idle_cell[0])
     for k in range(n):
         onset[k] = pos * dt
         h = n_hold[k]
@@ -179,8 +215,9 @@ def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
         release[k] = (pos + h) * dt
         pos += h + n_rel
         off[k] = pos * dt - OFF_TAIL
+        gap_end[k] = sig["theta"][pos - 1] - sig["q"][pos - 1]
         if k + 1 < n:
-            rest[k + 1] = sig["theta"][pos - 1]
+            rest[k + 1] = sig["q"][pos - 1]
         idle(n_gap[k], sig["theta"][pos - 1], sig["q"][pos - 1], sig["f_cell"][pos - 1])
     t = np.arange(total) * dt
     contact, unload, peak, held = (np.zeros(n) for _ in range(4))
@@ -191,5 +228,5 @@ def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
         unload[k] = t[lo + loaded[-1]] if loaded.size else np.nan
         peak[k] = sig["F"][lo:hi].max()
         held[k] = sig["F"][round(release[k] / dt) - 1]
-    return Trajectory(t=t, rest=rest, onset=onset, release=release, off=off, contact=contact,
-                      unload=unload, peak_force=peak, held_force=held, **sig)
+    return Trajectory(t=t, rest=rest, gap_end=gap_end, onset=onset, release=release, off=off,
+                      contact=contact, unload=unload, peak_force=peak, held_force=held, **sig)
