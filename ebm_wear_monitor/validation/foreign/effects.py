@@ -73,6 +73,12 @@ def _record(name: str, form: str, equation: str, quantity: str, s: float, **para
             "quantity": quantity, "relative_change": float(s), "reference": REFERENCE}
 
 
+def _on_both(phys: Physics, f) -> None:
+    """Add ``f(F, w, th)`` to the sliding level and its standstill value to the breakaway level."""
+    phys.kinetic_extra.append(f)
+    phys.static_extra.append(lambda F, th: f(F, 0.0, th))
+
+
 def _standstill_floor(phys: Physics, act: Actuator, kinetic_at_zero: float) -> float:
     """Raise ``C_s`` so that the breakaway level is never below the kinetic level at w = 0."""
     lift = max(0.0, kinetic_at_zero - act.T_fs)
@@ -100,8 +106,7 @@ def viscous_shear_thinning(phys: Physics, ctx: Context, s: float) -> dict:
 
 def load_power(phys: Physics, ctx: Context, s: float) -> dict:
     g = s * ctx.act.G * F_REF**-0.2
-    phys.kinetic_extra.append(lambda F, w, th: g * F**1.2)
-    phys.static_extra.append(lambda F, th: g * F**1.2)
+    _on_both(phys, lambda F, w, th: g * F**1.2)
     return _record("load_friction", "power", "T_f += g F^1.2 (sliding and breakaway)",
                    "load friction G F at F_REF", s, g=g, exponent=1.2)
 
@@ -109,8 +114,7 @@ def load_power(phys: Physics, ctx: Context, s: float) -> dict:
 def load_coaxiality(phys: Physics, ctx: Context, s: float) -> dict:
     m, phi = float(ctx.rng.uniform(0.5, 0.9)), float(ctx.rng.uniform(0, 2 * np.pi))
     G, i_g = ctx.act.G, ctx.act.i_g
-    phys.kinetic_extra.append(lambda F, w, th: s * G * F * (1 + m * np.cos(th / i_g + phi)))
-    phys.static_extra.append(lambda F, th: s * G * F * (1 + m * np.cos(th / i_g + phi)))
+    _on_both(phys, lambda F, w, th: s * G * F * (1 + m * np.cos(th / i_g + phi)))
     phys.absolute = True
     return _record("load_friction", "coaxiality",
                    "T_f += s G F (1 + m cos(theta_screw + phi)): misalignment load once per screw turn",
@@ -125,12 +129,7 @@ def efficiency_lowspeed_load(phys: Physics, ctx: Context, s: float) -> dict:
     act = ctx.act
     w_e = float(ctx.rng.uniform(8.0, 20.0))
     a = s * _friction_at_ref(act) / (act.r_g * F_REF)
-
-    def loss(F: np.ndarray, w: np.ndarray | float) -> np.ndarray:
-        return a * act.r_g * F * np.sqrt(F / F_REF) * np.exp(-np.abs(w) / w_e)
-
-    phys.kinetic_extra.append(lambda F, w, th: loss(F, w))
-    phys.static_extra.append(lambda F, th: loss(F, 0.0))
+    _on_both(phys, lambda F, w, th: a * act.r_g * F * np.sqrt(F / F_REF) * np.exp(-np.abs(w) / w_e))
     return _record("efficiency_variation", "lowspeed_load",
                    "T_f += a T_L sqrt(F/F_REF) exp(-|w_m|/w_e): boundary lubrication at low speed",
                    "sliding friction T_fc + G F at F_REF, standstill", s, a=a, w_e=w_e)
@@ -139,13 +138,9 @@ def efficiency_lowspeed_load(phys: Physics, ctx: Context, s: float) -> dict:
 def efficiency_churning(phys: Physics, ctx: Context, s: float) -> dict:
     act = ctx.act
     w_h = float(ctx.rng.uniform(5.0, 20.0))
-    a = s * _friction_at_ref(act) / (act.r_g * F_REF * 2 * W_REF / (W_REF + w_h) / 2)
-
-    def loss(F: np.ndarray, w: np.ndarray) -> np.ndarray:
-        x2 = (F / F_REF) ** 2
-        return a * act.r_g * F * x2 / (1 + x2) * 2 * np.abs(w) / (np.abs(w) + w_h)
-
-    phys.kinetic_extra.append(lambda F, w, th: loss(F, w))
+    a = s * _friction_at_ref(act) * (W_REF + w_h) / (act.r_g * F_REF * W_REF)
+    phys.kinetic_extra.append(lambda F, w, th: a * act.r_g * F * (F / F_REF) ** 2
+                              / (1 + (F / F_REF) ** 2) * 2 * np.abs(w) / (np.abs(w) + w_h))
     return _record("efficiency_variation", "churning",
                    "T_f += a T_L (F/F_REF)^2/(1+(F/F_REF)^2) 2|w_m|/(|w_m|+w_h)",
                    "sliding friction T_fc + G F at F_REF, W_REF", s, a=a, w_h=w_h)
@@ -164,8 +159,7 @@ def preload_relief(phys: Physics, ctx: Context, s: float) -> dict:
     act = ctx.act
     F_r = float(ctx.rng.uniform(6e3, 12e3))
     d = s * act.T_fc
-    phys.kinetic_extra.append(lambda F, w, th: d * np.maximum(0.0, 1 - F / F_r))
-    phys.static_extra.append(lambda F, th: d * np.maximum(0.0, 1 - F / F_r))
+    _on_both(phys, lambda F, w, th: d * np.maximum(0.0, 1 - F / F_r))
     return _record("preload_change", "relief",
                    "T_fc, T_fs += s T_fc max(0, 1 - F/F_r): preload relieved by the axial load",
                    "Coulomb friction T_fc at zero load", s, dT=d, F_r=F_r)
