@@ -4,12 +4,15 @@
 ``NAMESPACE/wear``, ``NAMESPACE/duty_cycle``, ``NAMESPACE/remaining_life`` and
 ``/diagnostics`` (default namespace ``/embu``) and prints one JSON object per
 message: ``{"topic": ..., "recv": <wall time [s]>, "msg": {field: value}}``,
-after a first line ``READY`` once the subscriptions exist. Stops on SIGINT/SIGTERM.
-Used by the node's tests and benchmark as the third process.
+after a first line ``READY`` once the subscriptions exist. Stops on SIGINT/SIGTERM (exit 0: the
+listener has no work to cut short). A NAMESPACE that is not a ROS 2 namespace (``--help``
+is not one) is one line on stderr and exit status 2. Used by the node's tests and benchmark as
+the third process, and by people in the README's live tour.
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import signal
 import sys
@@ -22,7 +25,11 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.signals import SignalHandlerOptions
 
+from ebm_wear_monitor.bagio.topics import check_namespace
+from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.ros.qos import event_qos, latched_qos
+
+PROG = "ebm-wear-listener"
 
 
 def to_plain(msg: Any) -> Any:
@@ -40,9 +47,23 @@ def to_plain(msg: Any) -> Any:
     return msg
 
 
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m ebm_wear_monitor.ros.listener",
+                                description="print a wear monitor's outputs (wear, duty_cycle, remaining_life"
+                                            " under NAMESPACE, and /diagnostics) as JSON lines")
+    p.add_argument("namespace", nargs="?", default="/embu", metavar="NAMESPACE",
+                   help="the monitor's namespace (default /embu, the node's default)")
+    return p
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = list(sys.argv[1:] if argv is None else argv)
-    ns = "/" + (args[0] if args else "/embu").strip("/")
+    """Print the outputs until SIGINT/SIGTERM (exit 0); exit 2 with one line on a bad namespace."""
+    args = _parser().parse_args(argv)
+    try:
+        ns = check_namespace(args.namespace)
+    except InputError as exc:
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return 2
     stop: list[int] = []
     signal.signal(signal.SIGINT, lambda s, _f: stop.append(s))
     signal.signal(signal.SIGTERM, lambda s, _f: stop.append(s))
@@ -60,7 +81,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     for name, mtype, qos in (("wear", WearState, event_qos()), ("duty_cycle", DutyCycle, event_qos()),
                              ("remaining_life", RemainingLife, latched_qos())):
-        node.create_subscription(mtype, f"{ns}/{name}", printer(name), qos)
+        node.create_subscription(mtype, f"{ns.rstrip('/')}/{name}", printer(name), qos)
     node.create_subscription(DiagnosticArray, "/diagnostics", printer("diagnostics"), 10)
     print("READY", flush=True)
     try:

@@ -20,8 +20,16 @@ Command line (``python -m ebm_wear_monitor.ros.player BAG... [--speed S] ...``):
     --namespace NS     publish the bag's (only) unit under NS instead of its own namespace
     --speed S          multiple of real time; 0 = as fast as possible (default 1)
     --reliable         reliable, keep-all QoS (default: best effort, the sensor-data profile)
-    --signals LIST     publish only these signals (comma-separated, e.g. angle,velocity,axial_force)
-    --subscribers N    wait until every published topic has N subscribers before starting (default 1)
+    --signals LIST     signals to publish, comma-separated, or ``all`` (default: what the wear monitor
+                       subscribes to, angle,velocity,axial_force; ``motor/current`` is for the twin only)
+    --subscribers N    wait until each of the monitor's input topics has N subscribers (default 1)
+    --wait-timeout S   give up waiting for them after S seconds (default 60)
+    --no-progress      no progress bar on stderr
+
+It waits only for subscriptions on the topics the wear monitor reads (a published
+``motor/current`` has no such subscriber). Exit status: 0 when everything was published, 2 on
+bad input or when no subscriber appeared (one line on stderr, naming the topics it waited for),
+130 when interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
@@ -29,17 +37,21 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 import rclpy
 from rclpy.node import Node
 from rclpy.publisher import Publisher
+from rclpy.signals import SignalHandlerOptions
 
 from ebm_wear_monitor.bagio.cdr import encode_float64_stamped
-from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
+from ebm_wear_monitor.bagio.topics import INPUT_TOPICS, check_namespace
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.monitor.alignment import SIGNALS as MONITOR_SIGNALS
 from ebm_wear_monitor.ros.qos import input_qos
+
+PROG = "ebm-wear-player"
 
 
 def unrolled_time(stamps: np.ndarray) -> np.ndarray:
@@ -79,13 +91,24 @@ class Player:
         self.publishers: list[Publisher] = [
             node.create_publisher(_float64_stamped(), f"{ns.rstrip('/')}/{INPUT_TOPICS[s]}", qos)
             for s in signals]
+        #: the publishers whose topics the wear monitor subscribes to (the ones worth waiting for)
+        self.monitored = [p for s, p in zip(signals, self.publishers, strict=True) if s in MONITOR_SIGNALS]
         self._signals = list(signals.values())
         self._which, self._key = publish_order(signals)
 
+    @property
+    def messages(self) -> int:
+        """Number of messages :meth:`play` publishes."""
+        return int(self._which.size)
+
+    def unmatched(self, count: int) -> list[str]:
+        """Monitor input topics with fewer than ``count`` matched subscriptions."""
+        return [p.topic_name for p in self.monitored if p.get_subscription_count() < count]
+
     def wait_for_subscribers(self, count: int, timeout_s: float) -> bool:
-        """Wait until every topic has ``count`` matched subscriptions (discovery, 60-250 ms here)."""
+        """Wait until each monitor input topic has ``count`` matched subscriptions (discovery: 60-250 ms)."""
         deadline = time.monotonic() + timeout_s
-        while min((p.get_subscription_count() for p in self.publishers), default=count) < count:
+        while self.unmatched(count):
             if time.monotonic() > deadline:
                 return False
             time.sleep(0.01)
@@ -101,12 +124,13 @@ class Player:
             position[w] += 1
         return records
 
-    def play(self, speed: float = 1.0, stamp_offset_s: float = 0.0, start_wall_s: float | None = None) -> int:
+    def play(self, speed: float = 1.0, stamp_offset_s: float = 0.0, start_wall_s: float | None = None,
+             progress: Callable[[int], object] | None = None) -> int:
         """Publish every sample (paced at ``speed`` x real time, or unpaced when 0); returns the count.
 
         ``stamp_offset_s`` shifts every header stamp; ``start_wall_s`` (``time.time()`` scale) is the
         instant of the first message (default: at once). The benchmark uses both to stamp each
-        message with its wall-clock publish time.
+        message with its wall-clock publish time. ``progress(n)`` is told of every ``n`` published.
         """
         records = self._records(stamp_offset_s)
         pubs = [p.publish for p in self.publishers]
@@ -126,6 +150,8 @@ class Player:
                     continue
             for k in range(i, end):
                 pubs[which[k]](records[k])
+            if progress is not None:
+                progress(end - i)
             i = end
         return n
 
@@ -143,46 +169,83 @@ def _float64_stamped() -> type:
 
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m ebm_wear_monitor.ros.player",
-                                description="publish the input topics of bags with their header stamps")
-    p.add_argument("bags", nargs="+", help="rosbag2 bag directories")
-    p.add_argument("--namespace", help="publish the bag's only unit under this namespace")
+                                description="publish the input topics of rosbag2 bags live, with their "
+                                            "recorded header stamps (ebm_wear_msgs/msg/Float64Stamped)")
+    p.add_argument("bags", nargs="+", metavar="BAG", help="rosbag2 bag directories (sqlite3 or mcap)")
+    p.add_argument("--namespace", metavar="NS", help="publish the bag's only unit under this namespace")
     p.add_argument("--speed", type=float, default=1.0, help="multiple of real time; 0 = as fast as possible")
     p.add_argument("--reliable", action="store_true", help="reliable keep-all QoS instead of best effort")
-    p.add_argument("--signals", help="comma-separated signals to publish (default: all in the bag)")
-    p.add_argument("--subscribers", type=int, default=1, help="subscribers to wait for on every topic")
-    p.add_argument("--wait-timeout", type=float, default=30.0, help="seconds to wait for subscribers")
+    p.add_argument("--signals", metavar="LIST",
+                   help="comma-separated signals to publish, or 'all' (default: what the wear monitor "
+                        f"reads: {','.join(MONITOR_SIGNALS)})")
+    p.add_argument("--subscribers", type=int, default=1, metavar="N",
+                   help="subscribers to wait for on each of the monitor's input topics (default 1)")
+    p.add_argument("--wait-timeout", type=float, default=60.0, metavar="S",
+                   help="seconds to wait for them (default 60)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     return p
 
 
+def _chosen(args: argparse.Namespace) -> set[str]:
+    """The signals to publish (InputError on an unknown name or bad numbers)."""
+    if args.speed < 0 or not np.isfinite(args.speed):
+        raise InputError("--speed must be a finite number >= 0")
+    if args.subscribers < 0 or not args.wait_timeout >= 0:
+        raise InputError("--subscribers and --wait-timeout must be >= 0")
+    if args.namespace is not None:
+        args.namespace = check_namespace(args.namespace)
+    if args.signals in (None, ""):
+        return set(MONITOR_SIGNALS)
+    chosen = set(INPUT_TOPICS) if args.signals == "all" else set(args.signals.split(","))
+    if chosen - set(INPUT_TOPICS):
+        raise InputError(f"--signals: unknown {sorted(chosen - set(INPUT_TOPICS))}; "
+                         f"use {', '.join(INPUT_TOPICS)} or all")
+    return chosen
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point: play bags; exit 2 with one line on bad input."""
+    """Entry point: play bags; exit 0, 2 (one line on bad input or no subscriber) or 130 (interrupted)."""
     args = _parser().parse_args(argv)
-    from ebm_wear_monitor.bagio.reader import read_bags
     try:
-        recording = read_bags(args.bags)
-        if args.namespace and len(recording.units) != 1:
-            raise InputError(f"--namespace needs a bag with one unit, found {len(recording.units)}")
-        if args.speed < 0:
-            raise InputError("--speed must be >= 0")
-        chosen = set(args.signals.split(",")) if args.signals else set(INPUT_TOPICS)
-        if chosen - set(INPUT_TOPICS):
-            raise InputError(f"--signals: unknown {sorted(chosen - set(INPUT_TOPICS))}; "
-                             f"use {', '.join(INPUT_TOPICS)}")
+        return _play(args)
     except InputError as exc:
-        print(f"ebm-wear-player: error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
-    rclpy.init()
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _play(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from ebm_wear_monitor.bagio.reader import read_bags
+
+    chosen = _chosen(args)
+    recording = read_bags(args.bags)
+    if args.namespace and len(recording.units) != 1:
+        raise InputError(f"--namespace needs a bag with one unit, found {len(recording.units)}")
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)  # Ctrl-C: KeyboardInterrupt, exit 130
     node = rclpy.create_node("bag_player")
     try:
         players = [Player(node, args.namespace or unit,
                           {s: (sig.stamps, sig.values) for s, sig in data.signals.items() if s in chosen},
                           args.reliable)
                    for unit, data in recording.units.items()]
+        waiting = sorted({t for player in players for t in player.unmatched(args.subscribers)})
+        if waiting:
+            print(f"{PROG}: waiting for subscriptions on {', '.join(waiting)} (is ebm-wear-monitor running "
+                  "under that namespace?)", file=sys.stderr, flush=True)
         for player in players:
             if not player.wait_for_subscribers(args.subscribers, args.wait_timeout):
-                print("ebm-wear-player: error: no subscriber appeared", file=sys.stderr)
-                return 1
-        total = sum(player.play(args.speed) for player in players)
+                raise InputError(f"no subscriber on {', '.join(player.unmatched(args.subscribers))} within "
+                                 f"{args.wait_timeout:g} s (start ebm-wear-monitor under that namespace, "
+                                 "or give the player --namespace)")
+        total = sum(player.messages for player in players)
+        with tqdm(total=total, unit="msg", desc="publish", file=sys.stderr,
+                  disable=args.no_progress or None) as bar:
+            for player in players:
+                player.play(args.speed, progress=bar.update)
         for player in players:
             player.wait_for_delivery(10.0)
         print(f"published {total}", flush=True)

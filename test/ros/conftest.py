@@ -133,6 +133,11 @@ class Procs:
     def player(self, bag: Path, *args: str) -> subprocess.Popen:
         return self.start([sys.executable, "-m", "ebm_wear_monitor.ros.player", str(bag), *args])
 
+    @staticmethod
+    def watch(proc: subprocess.Popen) -> Lines:
+        """The stdout lines of a child started with :meth:`start`."""
+        return Lines(proc)
+
     def listener(self, namespace: str = "/embu", timeout: float = 30.0) -> Lines:
         """The JSON-lines listener of the node's outputs, subscribed and ready."""
         lines = Lines(self.start([sys.executable, "-m", "ebm_wear_monitor.ros.listener", namespace]))
