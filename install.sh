@@ -27,6 +27,15 @@ if ! command -v c++ >/dev/null 2>&1 && ! command -v g++ >/dev/null 2>&1; then
   fi
 fi
 
+if ! command -v chromium >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    say "installing Chromium (the HTML reports' browser test drives it headless)"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    say "note: no chromium (apt-get install chromium): the reports' browser test will be skipped"
+  fi
+fi
+
 if [ ! -x "$VENV/bin/python" ]; then
   say "creating $VENV with $PY"
   if [ -n "$system_ros" ]; then "$PY" -m venv --system-site-packages "$VENV"; else "$PY" -m venv "$VENV"; fi
@@ -42,7 +51,7 @@ if [ "$(cat "$STAMPS/pip" 2>/dev/null)" != "$h" ]; then
   "${PIP[@]}" install --upgrade pip setuptools wheel 2>&1 | grep -v "is ignored" || true
   args=(); for r in "${reqs[@]}"; do args+=(-r "$r"); done
   "${PIP[@]}" install -c requirements/lock.txt "${args[@]}" 2>&1 | grep -v "is ignored" || true
-  "$VENV/bin/python" -c "import rclpy, filterpy, rosbags, numpy, scipy, dask, yaml" \
+  "$VENV/bin/python" -c "import rclpy, filterpy, rosbags, numpy, scipy, dask, yaml, jinja2, plotly, playwright" \
     || { say "error: dependency installation failed"; exit 1; }
   echo "$h" > "$STAMPS/pip"
 fi

@@ -83,12 +83,13 @@ def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.fleet.cluster import dask_client
     from ebm_wear_monitor.fleet.manifest import Manifest
     from ebm_wear_monitor.fleet.pipeline import run_fleet
-    from ebm_wear_monitor.fleet.report import write_fleet_report
+    from ebm_wear_monitor.fleet.report import unit_entries, write_fleet_report
     from ebm_wear_monitor.fleet.synthetic import generate_fleet, scenarios
-    from ebm_wear_monitor.fleet.tables import SUMMARY_COLUMNS, assemble, write_tables
+    from ebm_wear_monitor.fleet.tables import assemble, write_tables
     from ebm_wear_monitor.outputs import write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
+    from ebm_wear_monitor.reports.life import life_view
 
     _check(args)
     fleet_params = Path(args.dir) / "params.yaml"
@@ -113,7 +114,10 @@ def run(args: argparse.Namespace) -> int:
         write_json(args.json, tables.document)
     print(f"{len(fleet.units)} units: {len(fleet.processed)} processed, "
           f"{len(fleet.skipped)} unchanged (skipped)")
-    print(tables.units[SUMMARY_COLUMNS[:6]].head(10).to_string(index=False))
+    for _, row in tables.units.head(10).iterrows():
+        view = life_view(*unit_entries(row), "failed" if row["status"] == "failed" else None)
+        print(f"{row['rank']:>5d}  {row['unit']:<28s} {view.status_words:<24s} clearance {view.clearance} "
+              f"({view.fraction_text} of limit); life {view.applications}")
     for failure in tables.document["failures"]:
         print(f"failed: {failure['unit']} {failure['bag'] or ''}: {failure['reason']}")
     print(f"outputs in {out}: units.parquet, applications.parquet, fleet_summary.csv, fleet.json; "

@@ -22,11 +22,20 @@ def add_output_options(parser: argparse.ArgumentParser, report_default: str = ""
 
 
 def check_outputs(args: argparse.Namespace) -> None:
-    """Before any work: ``--json`` and ``--report`` destinations usable (InputError otherwise)."""
+    """Before any work: ``--json`` and ``--report`` destinations usable (InputError otherwise).
+
+    ``--json`` may go into the ``--report`` directory about to be created (``--report report
+    --json report/replay.json``, the README's first command).
+    """
+    from pathlib import Path
+
     from ebm_wear_monitor.outputs import check_destination
 
-    check_destination(args.json, "--json")
     check_destination(args.report, "--report", directory=True)
+    into_new_report = (args.json is not None and args.report is not None and not Path(args.report).exists()
+                       and Path(args.json).parent == Path(args.report))
+    if not into_new_report:
+        check_destination(args.json, "--json")
 
 
 def progress(args: argparse.Namespace, total: int | None, desc: str, unit: str) -> Any:

@@ -2,10 +2,12 @@
 
 Written into OUT (each file atomically):
 
-* ``units.parquet``: one row per unit (the section 4 entry flattened, SI units,
-  plus status, error, bag count and prognostics metrics when ground truth is known),
-  ranked by ``cycles_p05`` ascending (most urgent first; units with no measurable
-  growth, then failed units, last);
+* ``units.parquet``: one row per unit (the section 4 entry flattened, SI units, plus
+  ``status`` = the remaining-life status, or ``failed``; ``job`` = done | failed; ``error``;
+  ``clearance_fraction`` = estimate / limit; bag count; prognostics metrics when ground truth is
+  known), ranked by urgency (:func:`rank_units`): status (due, warn, then ok and
+  insufficient_data), then p05 remaining life ascending, then, for units without a measurable
+  trend, clearance fraction descending; failed units last;
 * ``applications.parquet``: one row per unit and completed brake application
   (columns of ``replay.result.APPLICATION_COLUMNS`` plus ``unit``);
 * ``fleet_summary.csv``: the ranking for people (rank, unit, p05/p50/p95, clearance, status, reason);
@@ -26,10 +28,14 @@ from ebm_wear_monitor.fleet.manifest import Manifest
 from ebm_wear_monitor.outputs import atomic_write, write_json
 
 SUMMARY_COLUMNS = ["rank", "unit", "status", "cycles_p05", "cycles_p50", "cycles_p95", "clearance_estimate_m",
-                   "clearance_std_m", "limit_m", "duty_cycles", "input_faults_total", "bags", "error"]
+                   "clearance_std_m", "limit_m", "clearance_fraction", "duty_cycles", "input_faults_total",
+                   "bags", "error"]
 
 #: columns that stay text even when every value is null
-TEXT_COLUMNS = ["unit", "status", "error", "input_faults", "limiting_mechanism"]
+TEXT_COLUMNS = ["unit", "status", "job", "error", "input_faults", "input_faults_by_signal",
+                "limiting_mechanism"]
+#: urgency of a status (0 = most urgent); unknown statuses rank with ok
+SEVERITY = {"due": 0, "limit_reached": 0, "warn": 1, "ok": 2, "insufficient_data": 2, "failed": 3}
 
 
 @dataclass
@@ -46,9 +52,13 @@ def flatten(entry: dict) -> dict:
     row = {"unit": entry["unit"], "duty_cycles": entry["duty_cycles"], **entry["wear"]}
     row.update({f"clearance_{k}": v for k, v in entry["clearance"].items()})
     row.update(entry["remaining_life"])
+    row.setdefault("status", "insufficient_data")
+    est, limit = row.get("clearance_estimate_m"), row.get("limit_m")
+    row["clearance_fraction"] = est / limit if est is not None and limit else None
     faults = entry.get("input_faults", {})
     row["input_faults_total"] = sum(faults.values())
     row["input_faults"] = json.dumps(faults, sort_keys=True)
+    row["input_faults_by_signal"] = json.dumps(entry.get("input_faults_by_signal", {}), sort_keys=True)
     row["bags"] = len(entry.get("bags", []))
     row["messages"] = entry.get("messages", 0)
     for key, value in (entry.get("prognostics") or {}).items():
@@ -65,6 +75,18 @@ def _numeric(frame: pd.DataFrame) -> pd.DataFrame:
     return frame
 
 
+def rank_units(units: pd.DataFrame) -> pd.DataFrame:
+    """``units`` sorted most urgent first, with a ``rank`` column (module docstring)."""
+    keys = pd.DataFrame({
+        "severity": units["status"].map(SEVERITY).fillna(SEVERITY["ok"]),
+        "p05": pd.to_numeric(units["cycles_p05"], errors="coerce"),
+        "fraction": -pd.to_numeric(units["clearance_fraction"], errors="coerce"),
+        "unit": units["unit"]}, index=units.index)
+    units = units.loc[keys.sort_values(["severity", "p05", "fraction", "unit"], na_position="last").index]
+    units.insert(0, "rank", np.arange(1, len(units) + 1))
+    return units.reset_index(drop=True)
+
+
 def assemble(out: Path, folders: list[str], manifest: Manifest) -> FleetTables:
     """Gather the result files of ``folders`` (the units found in DIR now) into the fleet outputs."""
     rows, apps, entries, failures = [], [], [], []
@@ -78,21 +100,16 @@ def assemble(out: Path, folders: list[str], manifest: Manifest) -> FleetTables:
         if result["error"]:
             if not result["failed_bags"]:
                 failures.append({"unit": folder, "bag": None, "reason": result["error"]})
-            rows.append({"unit": folder, "status": "failed", "error": result["error"]})
+            rows.append({"unit": folder, "status": "failed", "job": "failed", "error": result["error"]})
             continue
         for entry in result["entries"]:
             entries.append(entry)
-            rows.append({**flatten(entry), "status": "ok", "error": None})
+            rows.append({**flatten(entry), "job": "done", "error": None})
         parquet = out / info["file"].replace(".json", ".parquet")
         if parquet.exists():
             apps.append(pd.read_parquet(parquet))
     columns = list(dict.fromkeys([*SUMMARY_COLUMNS[1:], *(k for r in rows for k in r)]))
-    units = _numeric(pd.DataFrame(rows, columns=columns))
-    keys = units.assign(_failed=units["status"] != "ok",
-                        _p05=pd.to_numeric(units["cycles_p05"], errors="coerce"))
-    units = units.loc[keys.sort_values(["_failed", "_p05", "unit"], na_position="last").index]
-    units.insert(0, "rank", np.arange(1, len(units) + 1))
-    units = units.reset_index(drop=True)
+    units = rank_units(_numeric(pd.DataFrame(rows, columns=columns)))
     applications = pd.concat(apps, ignore_index=True) if apps else pd.DataFrame()
     by_unit = {e["unit"]: e for e in entries}
     document = {"units": [by_unit[u] for u in units["unit"] if u in by_unit], "failures": failures}

@@ -190,3 +190,11 @@ def test_dask_addresses_that_cannot_work_here_are_refused_before_any_work(tmp_pa
     assert main(["fleet", str(tmp_path), "--generate", "2", "--scheduler", address, "--out",
                  str(tmp_path / "o"), "--no-progress"]) == 2
     assert message in one_line_error(capsys.readouterr().err, "fleet")
+
+
+def test_json_into_the_report_directory_being_created_is_fine(repo, tmp_path):
+    """The README's first command: ``--report report --json report/replay.json`` on a fresh clone."""
+    report = tmp_path / "report"
+    assert main(["replay", str(repo / "bags" / "healthy"), "--report", str(report), "--json",
+                 str(report / "replay.json"), "--no-progress"]) == 0
+    assert sorted(p.name for p in report.iterdir()) == ["index.html", "replay.json"]

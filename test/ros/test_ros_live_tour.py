@@ -34,10 +34,11 @@ def test_the_readme_live_tour_works_verbatim(procs, repo, tmp_path) -> None:
     procs.env["XDG_STATE_HOME"] = str(tmp_path / "state")  # the node's default state_dir, kept out of ~
 
     def start(cmd: list[str]) -> subprocess.Popen:
-        argv = [str(repo / cmd[0]) if cmd[0].startswith(".venv/") else cmd[0], *cmd[1:]]
-        if argv[0].endswith("/python"):
-            argv[0] = sys.executable  # the venv of the tests (the README's .venv in a fresh clone)
-        return procs.start(argv, cwd=repo)
+        # .venv/bin/X: X of the venv running the tests (the README's .venv in a fresh clone)
+        assert cmd[0].startswith(".venv/bin/"), cmd
+        name = Path(cmd[0]).name
+        return procs.start([sys.executable if name == "python" else str(Path(sys.executable).parent / name),
+                            *cmd[1:]], cwd=repo)
 
     node = start(node_cmd)  # terminal 1
     player = start(player_cmd)  # terminal 2: may start before the node is up; it waits for it
