@@ -21,7 +21,8 @@ setup(
     name=PACKAGE,
     version="0.1.0",
     packages=find_packages(exclude=["test", "test.*", "bench"]),
-    package_data={PACKAGE: ["params/reference/*.yaml", "validation/foreign/README.md"]},
+    package_data={PACKAGE: ["params/reference/*.yaml", "validation/foreign/README.md",
+                            "reports/templates/*.html", "reports/style.css"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
@@ -39,6 +40,8 @@ setup(
         "pyarrow>=14",
         "matplotlib>=3.8",
         "tqdm>=4.66",
+        "Jinja2>=3.1",
+        "plotly>=5.20",
     ],
     zip_safe=True,
     maintainer="ebm_wear_monitor maintainers",
