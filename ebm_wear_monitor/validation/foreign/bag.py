@@ -49,10 +49,11 @@ def serialize(ts, stamps_ns: np.ndarray, values: np.ndarray, frame_id: str) -> n
 
 def write_bag(path: Path, storage: str, topics: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray,
                                                                   str]],
-              truth: dict) -> Path:
+              truth: dict, extra: dict[str, str] | None = None) -> Path:
     """Write a rosbag2 directory atomically (temporary name, then rename) with its sidecar.
 
-    ``topics`` maps a full topic name to ``(stamps_ns, log_ns, values, frame_id)``.
+    ``topics`` maps a full topic name to ``(stamps_ns, log_ns, values, frame_id)``; ``extra``
+    maps further file names (inside the bag directory) to their text.
     """
     path = Path(path)
     work = path.with_name(f".{path.name}.partial")
@@ -77,6 +78,8 @@ def write_bag(path: Path, storage: str, topics: dict[str, tuple[np.ndarray, np.n
             k = which_all[j]
             writer.write(conns[k], int(log_all[j]), rows[k][idx_all[j]])
     (tmp / "ground_truth.json").write_text(json.dumps(truth, indent=1, allow_nan=False))
+    for name, text in (extra or {}).items():
+        (tmp / name).write_text(text)
     if path.exists():
         shutil.rmtree(path)
     os.replace(tmp, path)

@@ -12,6 +12,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from . import life
 from .ecu import VARIANTS, EcuConfig
 from .effects import CATALOG, FORMS, OUTSIDE
 from .sensors import TOPICS, Acquisition, Clock
@@ -68,6 +69,7 @@ class Recipe:
     namespace: str
     storage: str
     start_ns: int  # stamp of the recording start [ns]
+    limit: float  # clearance at which the unit is due [m]
 
 
 def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
@@ -90,8 +92,10 @@ def draw_ecu(rng: np.random.Generator, variant: str) -> EcuConfig:
         ki_v=_u(rng, 1, 4), kd_v=_u(rng, 0.3, 0.8))
 
 
-def draw_clocks(rng: np.random.Generator, rates: tuple[float, ...] | None) -> dict[str, Clock]:
-    """Per-topic clocks: rates in 200 Hz..2 kHz (shared or not), phases, jitter, drops, frames."""
+def draw_clocks(rng: np.random.Generator, rates: tuple[float, ...] | None, min_drops: int = 0
+                ) -> dict[str, Clock]:
+    """Per-topic clocks: rates in 200 Hz..2 kHz (shared or not), sub-ms phases (at most one
+    period), jitter up to 5 % of the period, ``min_drops``..5 drops, non-empty frame_ids."""
     if rates is None:
         base = float(rng.choice(RATES))
         if rng.random() < 0.5:
@@ -100,13 +104,15 @@ def draw_clocks(rng: np.random.Generator, rates: tuple[float, ...] | None) -> di
             rates = tuple(float(np.clip(base * rng.choice([0.5, 1.0, 2.0]), 200.0, 2000.0))
                           for _ in TOPICS)
     frames = rng.permutation(len(FRAME_IDS))
-    return {topic: Clock(rate=r, phase=_u(rng, 0, 1.0 / r), jitter=_u(rng, 0, 0.05 / r),
-                         drops=int(rng.integers(0, 6)), frame_id=FRAME_IDS[frames[k]])
+    return {topic: Clock(rate=r, phase=_u(rng, 0, min(1.0 / r, 1e-3)),
+                         jitter=_u(rng, 0.005 / r, 0.05 / r), drops=int(rng.integers(min_drops, 6)),
+                         frame_id=FRAME_IDS[frames[k]])
             for k, (topic, r) in enumerate(zip(TOPICS, rates, strict=True))}
 
 
-def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock]) -> Acquisition:
-    """Sensor conventions of one recording."""
+def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock], lag_max: float = 2e-3
+                     ) -> Acquisition:
+    """Sensor conventions of one recording (log-time lag at most ``lag_max``)."""
     side = str(rng.choice(["screw", "motor"]))
     bits = int(rng.integers(16, 21) if side == "screw" else rng.integers(12, 17))
     kind = str(rng.choice(["derivative", "moving_average", "tracking"]))
@@ -114,7 +120,7 @@ def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock]) -> Acqu
     param = {"derivative": _u(rng, 0.5e-3, 3e-3),
              "moving_average": float(max(2, round(_u(rng, 2e-3, 10e-3) * v_rate))),
              "tracking": _u(rng, 150.0, 600.0)}[kind]
-    lag_min = _u(rng, 0.0, 0.5e-3)
+    lag_min = _u(rng, 0.0, 0.25 * lag_max)
     return Acquisition(
         clocks=clocks, encoder_side=side, encoder_bits=bits, encoder_offset=_u(rng, -1e3, 1e3),
         velocity_kind=kind, velocity_param=param, tare=_u(rng, -400, 400),
@@ -122,7 +128,7 @@ def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock]) -> Acqu
         current_kind=str(rng.choice(["instant", "centered", "average"])),
         f_pwm=float(rng.choice([8e3, 16e3, 20e3])), noise_I=_u(rng, 0.003, 0.03),
         lsb_I=float(rng.choice([0.001, 0.005, 0.01])), lag_min=lag_min,
-        lag_max=_u(rng, lag_min, 2e-3))
+        lag_max=_u(rng, 0.5 * lag_max, lag_max))
 
 
 def draw_namespace(rng: np.random.Generator) -> str:
@@ -133,10 +139,12 @@ def draw_namespace(rng: np.random.Generator) -> str:
             f"/t{a}/bogie{b % 2 + 1}/axle{c % 4 + 1}/brake")[style]
 
 
-def draw_schedule(rng: np.random.Generator, n: int, act: Actuator) -> Schedule:
-    """Demands 5-28 kN, onset-to-release 0.35-0.9 s, gaps 0.3-1.5 s, reference errors ~1 mrad."""
+def draw_schedule(rng: np.random.Generator, n: int, x_ag: np.ndarray,
+                  gap: tuple[float, float] = (0.3, 1.5)) -> Schedule:
+    """Demands 5-28 kN, onset-to-release 0.35-0.9 s, idle gaps in ``gap`` [s], reference errors
+    of about a mrad, true clearance ``x_ag`` per application."""
     return Schedule(demand=rng.uniform(5e3, 28e3, n), hold=rng.uniform(0.35, 0.9, n),
-                    gap=rng.uniform(0.3, 1.5, n), x_ag=np.full(n, act.x_ag),
+                    gap=rng.uniform(*gap, n), x_ag=np.asarray(x_ag, dtype=float),
                     eps=rng.normal(0.0, _u(rng, 0.5e-3, 2.5e-3), n), lead_in=_u(rng, 0.3, 1.0))
 
 
@@ -144,19 +152,23 @@ def realize(case: Case, act: Actuator) -> Recipe:
     """Draw every convention of ``case`` from its seed (fixed choices override the draws).
 
     Fixed keys: ``controller`` (a variant), ``rates`` (four topic rates, TOPICS order),
-    ``storage``, ``namespace``.
+    ``storage``, ``namespace``, ``lag_max`` [s], ``min_drops``, ``gap`` (idle range [s]),
+    ``clearance`` (a schedule of ``life.py``), ``limit`` (clearance limit [m]).
     """
     rng = np.random.default_rng(np.random.SeedSequence([case.seed, 0xF0E1]))
     variant = case.option("controller") or str(rng.choice(VARIANTS))
     ecu = draw_ecu(rng, variant)
-    clocks = draw_clocks(rng, case.option("rates"))
-    acq = draw_acquisition(rng, clocks)
-    schedule = draw_schedule(rng, case.n_apps, act)
+    clocks = draw_clocks(rng, case.option("rates"), case.option("min_drops", 0))
+    acq = draw_acquisition(rng, clocks, case.option("lag_max", 2e-3))
+    spec = case.option("clearance")
+    x_ag = life.clearance(spec, case.n_apps) if spec else np.full(case.n_apps, act.x_ag)
+    schedule = draw_schedule(rng, case.n_apps, x_ag, case.option("gap", (0.3, 1.5)))
     return Recipe(ecu=ecu, acq=acq, schedule=schedule, cell_lag=_u(rng, 0.2e-3, 2e-3),
                   namespace=case.option("namespace") or draw_namespace(rng),
                   storage=case.option("storage") or str(rng.choice(["sqlite3", "mcap"])),
                   start_ns=int(1_600_000_000 + rng.integers(0, 100_000_000)) * 1_000_000_000
-                  + int(rng.integers(0, 1_000_000_000)))
+                  + int(rng.integers(0, 1_000_000_000)),
+                  limit=float(case.option("limit", act.clearance_limit)))
 
 
 def _none_cases(count: int, seed0: int, prefix: str) -> list[Case]:
@@ -239,7 +251,57 @@ def _effect_cases(seed0: int, *, forms_per_effect: int, variants: int, small: bo
     return cases
 
 
-SETS = ("quick", "full")
+UM = 1e-6
+#: Life histories (issue 11): (id, schedule, applications, idle gap [s], rates, limit [m]).
+LIFE = (
+    ("life.linear_0.3", ("linear", 0.200e-3, 0.3 * UM), 200, (0.3, 1.5), 1000.0, 0.5e-3),
+    ("life.linear_0.6", ("linear", 0.220e-3, 0.6 * UM), 180, (0.3, 1.5), 1000.0, 0.5e-3),
+    ("life.linear_0.9", ("linear", 0.200e-3, 0.9 * UM), 180, (0.3, 1.5), 1000.0, 0.5e-3),
+    ("life.linear_1.2", ("linear", 0.250e-3, 1.2 * UM), 220, (0.3, 1.5), 500.0, 0.5e-3),
+    ("life.linear_1.5", ("linear", 0.220e-3, 1.5 * UM), 240, (0.3, 1.5), 1000.0, 0.5e-3),
+    ("life.exponential", ("exponential", 0.210e-3, 0.2 * UM, 0.015), 200, (0.3, 1.5), 1000.0,
+     0.5e-3),
+    ("life.step_30um", ("step", 0.240e-3, 30 * UM, 90), 200, (0.3, 1.5), 1000.0, 0.5e-3),
+    ("life.flat_high_usage", ("flat", 0.200e-3), 200, (0.3, 0.6), 1000.0, 0.5e-3),
+    ("life.flat_mid_usage", ("flat", 0.260e-3), 180, (1.5, 2.5), 500.0, 0.5e-3),
+    ("life.flat_low_usage", ("flat", 0.310e-3), 150, (4.0, 6.0), 250.0, 0.5e-3),
+    ("life.slow_rul_5800", ("linear", 0.5e-3 - 6000 * 0.03 * UM, 0.03 * UM), 200, (0.3, 1.5),
+     1000.0, 0.5e-3),
+    ("life.linear_0.9_limit_0.4mm", ("linear", 0.200e-3, 0.9 * UM), 180, (0.3, 1.5), 2000.0,
+     0.4e-3),
+)
+#: The multi-rate recordings: angle and velocity 2 kHz, force 1 kHz, current 500 Hz.
+MULTIRATE_RATES = (2000.0, 2000.0, 1000.0, 500.0)
+
+
+def _life_cases() -> list[Case]:
+    return [Case(cid, "life", 5000 + k, n_apps=n,
+                 fixed=(("clearance", spec), ("gap", gap), ("rates", (rate,) * 4),
+                        ("storage", "sqlite3"), ("limit", limit),
+                        ("controller", VARIANTS[k % len(VARIANTS)])))
+            for k, (cid, spec, n, gap, rate, limit) in enumerate(LIFE)]
+
+
+def _multirate_cases() -> list[Case]:
+    fixed = (("rates", MULTIRATE_RATES), ("namespace", "/train5/car3/embu2"), ("lag_max", 1.6e-3),
+             ("min_drops", 1))
+    rng = np.random.default_rng(6000)
+    forms = (None, None, None, ("clearance_growth", "ramp"), ("load_friction", "power"),
+             ("stiffness_nonlinearity", "bilinear"))
+    cases = []
+    for k, f in enumerate(forms):
+        variant = VARIANTS[k % len(VARIANTS)]
+        storage = ("sqlite3", "mcap")[k % 2]
+        extra = (("controller", variant), ("storage", storage))
+        if f is None:
+            cases.append(Case(f"multirate.none.{k}", "multirate", 6000 + k, fixed=fixed + extra))
+        else:
+            cases.append(Case(f"multirate.{f[0]}.{k}", "multirate", 6000 + k, effects=(f[0],),
+                              forms=((*f, _magnitude(rng, f[0])),), fixed=fixed + extra))
+    return cases
+
+
+SETS = ("quick", "full", "life", "multirate")
 
 
 def case_set(name: str) -> list[Case]:
@@ -248,7 +310,10 @@ def case_set(name: str) -> list[Case]:
     ``quick`` (CI): 6 no-effect, one case per catalog effect (forms alternate), 4 outside-catalog
     (one per kind), 3 two-effect. ``full``: 30 no-effect, every catalog effect x 2 forms x 2
     (magnitude, controller), 8 small (5-10 %) effect cases, 8 outside-catalog (2 per kind),
-    10 two-effect. Unknown names raise ``ValueError`` naming the known ones.
+    10 two-effect. ``life``: 12 long recordings (150-240 applications) of healthy units whose
+    true clearance follows a schedule (``LIFE``). ``multirate``: 6 recordings with angle and
+    velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag
+    up to 1.6 ms (3 no-effect, 3 with one catalog effect). Unknown names raise ``ValueError``.
     """
     if name == "quick":
         return _none_cases(6, 1000, "none_q") + _effect_cases(
@@ -256,4 +321,8 @@ def case_set(name: str) -> list[Case]:
     if name == "full":
         return _none_cases(30, 2000, "none_") + _effect_cases(
             4000, forms_per_effect=2, variants=2, small=True, outside_per_kind=2, pairs=10)
+    if name == "life":
+        return _life_cases()
+    if name == "multirate":
+        return _multirate_cases()
     raise ValueError(f"unknown case set {name!r}; known: {', '.join(SETS)}")

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import hashlib
+import time
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
+import yaml
 
-from . import sensors
+from . import life, sensors
 from .bag import write_bag
 from .cases import Case, Recipe, realize
 from .effects import Context, build
@@ -17,6 +19,7 @@ from .simulate import PLANT_RATE, Trajectory, onset_times, simulate
 from .unit import REFERENCE_UNIT, Actuator, load_actuator
 
 GENERATOR = "ebm_wear_monitor.validation.foreign"
+UNIT_YAML = "unit.yaml"  # unit file written beside a life history (inside its bag directory)
 VERSION = 1
 
 
@@ -68,9 +71,13 @@ def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, c
                  effects: list[dict], samples: dict[str, dict], unit: Path) -> dict:
     """The sidecar: the project's schema per unit, everything else under ``"foreign"``."""
     acq, sched, start = recipe.acq, recipe.schedule, recipe.start_ns * 1e-9
-    limit = act.clearance_limit
-    over = np.flatnonzero(clearance >= limit)
-    eol = float(over[0]) if over.size else None
+    limit = recipe.limit
+    spec = case.option("clearance")
+    if spec:
+        eol = life.end_of_life(spec, limit)
+    else:
+        over = np.flatnonzero(clearance >= limit)
+        eol = float(over[0]) if over.size else None
     catalog = {e["name"]: e for e in effects if e["catalog"]}
     topics = {}
     for topic, s in samples.items():
@@ -117,6 +124,11 @@ def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, c
             "release_stamp_s": stamps(tr.release), "unload_stamp_s": stamps(tr.unload),
             "motor_off_stamp_s": stamps(tr.off), "peak_force_N": tr.peak_force.tolist(),
             "held_force_N": tr.held_force.tolist(), "clearance_m": clearance.tolist()},
+        "clearance_schedule": None if spec is None else {
+            "spec": list(spec), "meaning": "see life.py: clearance in force during application n",
+            "eol_meaning": "application index (from the first of this recording) at which the "
+                           "schedule reaches the limit; remaining life at n = eol - n"},
+        "unit_yaml": UNIT_YAML if spec else None,
         "plant_rate_hz": PLANT_RATE,
         "stitch_error": tr.stitch_error,
         "nominal": asdict(act),
@@ -127,15 +139,31 @@ def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, c
             "generator": {"name": GENERATOR, "version": VERSION}}
 
 
-def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNIT) -> Path:
-    """Generate ``case`` into ``out_dir/<case_id>`` (rosbag2 + ``ground_truth.json``); its path."""
+def unit_yaml(unit: Path, limit: float) -> str:
+    """The unit file's values with only ``monitor.clearance_limit`` set to ``limit`` [m]."""
+    doc = yaml.safe_load(unit.read_text())
+    doc["monitor"] = {"clearance_limit": float(limit)}
+    return yaml.safe_dump(doc, sort_keys=False)
+
+
+def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNIT,
+               timings: dict[str, float] | None = None) -> Path:
+    """Generate ``case`` into ``out_dir/<case_id>`` (rosbag2 + ``ground_truth.json``, and
+    ``unit.yaml`` for life histories); returns that directory.
+
+    ``timings``, if given, receives the seconds spent in ``simulate``, ``acquire`` and ``write``
+    and the number of ``messages`` written.
+    """
+    t0 = time.perf_counter()
     unit = Path(unit)
     act = load_actuator(unit)
     recipe = realize(case, act)
+    act = act.with_(clearance_limit=recipe.limit)
     seeds = np.random.SeedSequence([case.seed, 0x5EED]).spawn(3)
     phys, effects = physics_of(case, act, recipe, np.random.default_rng(seeds[0]))
     tr = simulate(act, phys, recipe.ecu, recipe.schedule, cell_lag=recipe.cell_lag,
                   seed=int(np.random.default_rng(seeds[1]).integers(2**31)))
+    t1 = time.perf_counter()
     clearance = recipe.schedule.x_ag + (0.0 if phys.clearance_extra is None else phys.clearance_extra)
     samples = acquire(act, recipe, tr, np.random.default_rng(seeds[2]))
     truth = ground_truth(case, act, recipe, tr, clearance=np.asarray(clearance, dtype=float),
@@ -143,4 +171,10 @@ def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNI
     topics = {f"{recipe.namespace}/{topic}": (s["stamp_ns"], s["log_ns"], s["value"],
                                               recipe.acq.clocks[topic].frame_id)
               for topic, s in samples.items()}
-    return write_bag(Path(out_dir) / case.case_id, recipe.storage, topics, truth)
+    t2 = time.perf_counter()
+    extra = {UNIT_YAML: unit_yaml(unit, recipe.limit)} if case.option("clearance") else {}
+    path = write_bag(Path(out_dir) / case.case_id, recipe.storage, topics, truth, extra)
+    if timings is not None:
+        timings.update(simulate=t1 - t0, acquire=t2 - t1, write=time.perf_counter() - t2,
+                       messages=float(sum(s["t"].size for s in samples.values())))
+    return path
