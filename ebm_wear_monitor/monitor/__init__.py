@@ -5,6 +5,8 @@ Public API::
     core = MonitorCore(unit, config=None, state=None)     # state from load_state(path)
     core.add("angle" | "velocity" | "axial_force", stamps, values)   # int64 ns or float s; any chunk
     cycles = core.process(final=False)                    # list[CycleSummary], completed applications
+    feeder = Feeder(core); events = feeder.feed(batch)    # wire.Batch in, [Application(cycle, snapshot)]
+                                                          # out: how the node and the replay drive it
     snap = core.snapshot()                                # MonitorSnapshot; snap.to_json_dict() is the
                                                           # replay JSON entry of interface.md section 4
     save_state(path, core.state); state, problems = load_state(path)
@@ -15,13 +17,15 @@ Public API::
 See :mod:`.core` for the data flow and :mod:`.config` for every threshold.
 """
 
-from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, SIGNALS, ros_stamp_ns
+from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, SIGNALS
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter_specs
-from ebm_wear_monitor.monitor.core import CycleSummary, MonitorCore, MonitorSnapshot
+from ebm_wear_monitor.monitor.core import Application, CycleSummary, MonitorCore, MonitorSnapshot
+from ebm_wear_monitor.monitor.feeder import Feeder
 from ebm_wear_monitor.monitor.life import STATUS_INSUFFICIENT, STATUS_LIMIT, STATUS_OK
 from ebm_wear_monitor.monitor.persistence import load_state, save_state
 from ebm_wear_monitor.monitor.segmentation import PHASES, SampleLabels, label_samples
 from ebm_wear_monitor.monitor.state import MonitorState, StateError
+from ebm_wear_monitor.monitor.wire import Batch, stamp_ns
 
 __all__ = [
     "FAULT_KINDS",
@@ -30,7 +34,10 @@ __all__ = [
     "STATUS_INSUFFICIENT",
     "STATUS_LIMIT",
     "STATUS_OK",
+    "Application",
+    "Batch",
     "CycleSummary",
+    "Feeder",
     "MonitorConfig",
     "MonitorCore",
     "MonitorSnapshot",
@@ -41,6 +48,6 @@ __all__ = [
     "label_samples",
     "load_state",
     "parameter_specs",
-    "ros_stamp_ns",
     "save_state",
+    "stamp_ns",
 ]

@@ -1,43 +1,59 @@
-"""Merge the three input topics of interface.md section 2 into one stream of aligned samples.
+"""Merge the three input topics of interface.md section 2 onto one time base, by header stamp.
 
-The topics ``screw/angle``, ``screw/velocity`` and ``axial_force`` are sampled
-together, so an aligned sample is the set of the three values carrying the same
-header stamp (after flooring to ``stamp_quantum_s``). Messages may arrive
-interleaved, late, duplicated, with gaps, with bad values, or with stamps that
-jump back (a bag played in a loop). Every sample that cannot be used is counted
-under one fault kind (the first that applies, in this order):
+The topics ``screw/angle``, ``screw/velocity`` and ``axial_force`` need not
+share rates or stamps (interface.md section 2: e.g. angle and velocity at
+2 kHz, force at 1 kHz, each with its own phase and jitter). Each topic is first
+cleaned on its own (validated, de-duplicated, reordered); then the topic named
+by ``MonitorConfig.time_base`` (the force by default) gives the common time
+base and the two others are interpolated linearly at its stamps:
 
-``bad_stamp``        stamp not finite or not representable in int64 ns
+    x_s(t_b) = x_s(t_0) + (x_s(t_1) - x_s(t_0)) (t_b - t_0) / (t_1 - t_0),  t_0 <= t_b <= t_1
+
+between the two samples of topic ``s`` around each base stamp ``t_b``, only if
+``t_1 - t_0 <= max_interpolation_s`` (exactly ``x_s(t_0)`` when ``t_0 = t_b``, so
+topics sampled together align exactly as before). Otherwise topic ``s`` is
+``missing`` at ``t_b`` and the base stamp is dropped.
+
+Every sample that cannot be used is counted under one fault kind (the first that applies):
+
+``bad_stamp``        stamp not a valid time (non-finite, beyond int64 ns, or nanosec >= 1e9)
 ``non_finite``       value NaN or +-inf
 ``negative``         axial force below -10 force_on (compression is positive; a sensor offset of
                      a few force_on is tolerated and removed by segmentation.py)
 ``absurd``           |angle|, |velocity| or force beyond the configured physical bounds
-``stamp_backwards``  stamp more than ``backwards_jump_s`` behind its topic's newest
-``late``             stamp more than ``reorder_window_s`` behind its topic's newest, or in the
-                     time range already released to the segmenter
+``stamp_glitch``     a stamp more than ``backwards_jump_s`` ahead of its topic's newest (or a
+                     topic's first stamp) that the next ``reanchor_after_samples`` samples do not
+                     continue (each within ``backwards_jump_s`` of the one before)
+``stamp_backwards``  stamp more than ``backwards_jump_s`` behind its topic's newest (and below its floor)
+``late``             stamp below its topic's floor: more than ``reorder_window_s`` behind the
+                     topic's newest, or in a range already integrated (a resumed state)
 ``duplicate``        stamp already received on that topic (the first one is kept)
 
-and ``reanchored`` when a topic's clock is re-anchored after a run of backward stamps;
-
-and, for samples that are kept but imperfect:
+``reanchored`` counts confirmed clock jumps ahead; for samples that are kept but imperfect:
 
 ``out_of_order``     arrived behind its topic's newest stamp but within the window: sorted in
-``missing``          at a released stamp, this topic had no value (the stamp is dropped)
+``missing``          at a base stamp, this topic could not be interpolated (the stamp is dropped)
 ``gap``              consecutive aligned samples further apart than ``gap_s``
 
-Counted under "stream" by the core: ``interrupted_cycle`` (a gap inside a brake
-application), ``observation_rejected`` (clearance observation outside the
-filter's innovation gate) and ``clearance_reset`` (the clearance jumped).
+The adapters add ``undecodable`` (a record that did not decode) and ``lost`` (records of a
+damaged storage chunk); the core counts under "stream": ``interrupted_cycle``,
+``observation_rejected`` and ``clearance_reset``.
 
-Chunk invariance (why node and replay agree bit for bit): every decision about a
-sample depends only on the order of arrival *within its own topic* (the running
-maximum of that topic's stamps) and on the samples' values, never on how the
-calls to :meth:`InputAligner.add` are grouped or interleaved across topics. The
-release horizon ``H = min_topics(newest stamp) - window`` only decides *when*
-samples leave, not *which*: a sample accepted later has a stamp of at least its
-topic's newest minus the window, hence at least any horizon already used, so it
-can never fall in a released range (proof in the test suite by construction:
-one message at a time versus one call with the whole recording).
+Why node and replay agree (any chunking, any interleaving of the topics): every
+decision about a sample is a function of its own topic's arrival sequence only.
+Each topic keeps a *floor* ``W = max(floor, newest - window)`` that never
+decreases; a sample below it is dropped, so samples below ``W`` are final. A
+clock jump ahead moves ``newest`` only once confirmed by the following samples
+(bounded latency: ``reanchor_after_samples`` periods), so one glitched stamp
+cannot move a floor. A base stamp ``t_b`` is released only when it and its
+bracket in every other topic are final: ``t_b < W_base`` and, per other topic,
+``t_b <= L_s`` (its last sample below ``W_s``) or ``W_s - L_s >
+max_interpolation_s`` (no later sample can close the bracket: missing either
+way). When each call is made changes *when* a stamp is released, never what is
+released. The one exception is the dead-sensor rule: a topic whose newest lags
+the median topic's by more than ``stale_after_s`` stops holding the others back
+(its floor is raised to theirs); node and replay feed within
+``reorder_window_s`` of each other across topics, far inside that bound.
 """
 
 from __future__ import annotations
@@ -48,20 +64,19 @@ import numpy as np
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
+from ebm_wear_monitor.monitor.wire import BAD_STAMP_NS
 
 SIGNALS = ("angle", "velocity", "axial_force")
 IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the wear monitor
-FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_backwards", "late", "duplicate",
-               "out_of_order", "reanchored", "missing", "gap", "interrupted_cycle", "observation_rejected",
-               "clearance_reset")
-_NO_STAMP = np.iinfo(np.int64).min
+FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_glitch", "stamp_backwards", "late",
+               "duplicate", "out_of_order", "reanchored", "missing", "gap", "undecodable", "lost",
+               "interrupted_cycle", "observation_rejected", "clearance_reset")
+_NO_STAMP = int(np.iinfo(np.int64).min)
+_MAX_KEY = int(np.iinfo(np.int64).max)
 NEGATIVE_FORCE_MULTIPLE = 10.0  # force below -10 x the contact threshold is a wiring / sign fault
 _INT64_SECONDS = 9.2e9  # |stamp| [s] that still fits in int64 nanoseconds
-
-
-def ros_stamp_ns(sec: np.ndarray | int, nanosec: np.ndarray | int) -> np.ndarray:
-    """Exact int64 nanoseconds of ROS ``builtin_interfaces/Time`` (sec, nanosec); pass these to ``add``."""
-    return np.asarray(sec, dtype=np.int64) * 1_000_000_000 + np.asarray(nanosec, dtype=np.int64)
+# order classes of a sample with a valid stamp
+_KEEP, _GLITCH, _BACKWARDS, _LATE = 0, 1, 2, 3
 
 
 def absurd_limits(config: MonitorConfig) -> dict[str, float]:
@@ -72,10 +87,12 @@ def absurd_limits(config: MonitorConfig) -> dict[str, float]:
 
 
 def stamps_to_ns(stamps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(int64 ns, usable mask) from stamps given as int64 ns (exact) or float seconds (rounded to 1 ns)."""
+    """(int64 ns, usable mask) from stamps as int64 ns (exact; ``wire.BAD_STAMP_NS`` is unusable) or float
+    seconds (rounded to 1 ns)."""
     stamps = np.asarray(stamps)
     if stamps.dtype.kind in "iu":
-        return stamps.astype(np.int64), np.ones(stamps.shape, dtype=bool)
+        ns = stamps.astype(np.int64)
+        return ns, ns != BAD_STAMP_NS
     seconds = stamps.astype(np.float64)
     ok = np.isfinite(seconds) & (np.abs(seconds) < _INT64_SECONDS)
     return np.rint(np.where(ok, seconds, 0.0) * 1e9).astype(np.int64), ok
@@ -85,7 +102,7 @@ def stamps_to_ns(stamps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 class AlignedBatch:
     """Aligned samples released by :meth:`InputAligner.release`, in increasing stamp order."""
 
-    t_ns: np.ndarray  # header stamp (floored to the quantum) [ns], int64
+    t_ns: np.ndarray  # base stamp (floored to the quantum) [ns], int64
     angle: np.ndarray  # screw angle theta [rad]
     velocity: np.ndarray  # screw speed omega [rad/s]
     force: np.ndarray  # axial force F_a [N]
@@ -97,18 +114,18 @@ class AlignedBatch:
 
 @dataclass
 class _Topic:
-    raw: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+    raw: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)  # queued (and held) samples
     keys: np.ndarray = field(default_factory=lambda: np.empty(0, np.int64))  # pending, sorted, unique
     values: np.ndarray = field(default_factory=lambda: np.empty(0))
-    newest: int = _NO_STAMP  # newest finite stamp key seen on this topic
-    backwards_run: int = 0  # samples in a row (at the end so far) that were 'stamp_backwards'
+    newest: int = _NO_STAMP  # newest confirmed stamp key of this topic
+    floor: int = _NO_STAMP  # keys below are final: later samples below it are dropped (never decreases)
     accepted: int = 0
     first_ns: int | None = None
     last_ns: int | None = None
 
 
 class InputAligner:
-    """Per-topic validation, de-duplication and reordering, then merge by header stamp.
+    """Per-topic validation, de-duplication and reordering, then interpolation onto the base topic's stamps.
 
     ``release_floor_ns``: samples at or before this stamp are dropped as 'late'
     (the last stamp a resumed state already integrated).
@@ -119,9 +136,10 @@ class InputAligner:
         # counts per topic, plus "stream" for faults of the aligned stream (gap, interrupted_cycle)
         self.faults: dict[str, dict[str, int]] = {s: {} for s in (*SIGNALS, "stream")}
         self.configure(config, thresholds)
-        q = self._quantum
-        # first key that may still be released; everything below has been released (or predates the state)
-        self._released_key = _NO_STAMP if release_floor_ns is None else release_floor_ns // q + 1
+        if release_floor_ns is not None:
+            for topic in self._topics.values():
+                topic.floor = release_floor_ns // self._quantum + 1
+        self._released = _NO_STAMP  # base keys below this have been released
         self._last_released_key: int | None = None
 
     def configure(self, config: MonitorConfig, thresholds: Thresholds) -> None:
@@ -132,7 +150,9 @@ class InputAligner:
         self._jump = int(np.ceil(config.backwards_jump_s * 1e9 / q))
         self._stale = int(np.ceil(config.stale_after_s * 1e9 / q))
         self._gap = int(np.floor(config.gap_s * 1e9 / q))
-        self._reanchor = int(config.reanchor_after_samples)
+        self._bracket = int(np.floor(config.max_interpolation_s * 1e9 / q))
+        self._confirm = int(config.reanchor_after_samples)
+        self._base = config.time_base
         limit = absurd_limits(config)
         self._bounds = {
             "angle": (-limit["angle"], limit["angle"]),
@@ -161,54 +181,74 @@ class InputAligner:
         if n:
             self.faults[signal][kind] = self.faults[signal].get(kind, 0) + int(n)
 
-    def _accept(self, signal: str, topic: _Topic) -> None:
-        """Classify the queued samples of one topic and merge the good ones into its pending buffer.
+    def _order(self, signal: str, topic: _Topic, keys: np.ndarray, valid: np.ndarray, final: bool
+               ) -> tuple[np.ndarray, np.ndarray, int]:
+        """Order class of each sample (arrival order) and whether it is behind its topic's newest.
 
-        A topic whose stamps stay behind its newest by more than ``backwards_jump_s`` for
-        ``reanchor_after_samples`` samples in a row is re-anchored at the latest of them: one
-        glitched stamp from the future cannot blind it for ever (data before the release
-        horizon, e.g. a bag played again, is still dropped as late).
+        Returns (class per sample, behind-newest mask, number of samples decided); samples from a
+        clock-jump candidate on whose confirmation is still open are left undecided (held) unless
+        ``final``. Updates the topic's ``newest`` and ``floor``.
         """
+        n = keys.size
+        cls = np.full(n, _KEEP, np.int8)
+        behind = np.zeros(n, bool)
+        jump, window = self._jump, self._window
+        pos = 0
+        while pos < n:
+            k, ok = keys[pos:], valid[pos:]
+            masked = np.where(ok, k, _NO_STAMP)
+            running = np.maximum.accumulate(masked)
+            before = np.empty_like(running)
+            before[0] = topic.newest
+            np.maximum(running[:-1], topic.newest, out=before[1:])
+            ahead = ok & ((before == _NO_STAMP) | (k > np.where(before == _NO_STAMP, 0, before) + jump))
+            stop = int(np.argmax(ahead)) if ahead.any() else k.size
+            if stop:  # ordinary samples: late/backwards below the running floor, else kept
+                b, kk, okk = before[:stop], k[:stop], ok[:stop]
+                floor = np.maximum(topic.floor, np.where(b == _NO_STAMP, _NO_STAMP, b - window))
+                low = okk & (kk < floor)
+                back = low & (b != _NO_STAMP) & (b - kk > jump)
+                cls[pos:pos + stop] = np.where(back, _BACKWARDS, np.where(low, _LATE, _KEEP))
+                behind[pos:pos + stop] = okk & ~low & (b != _NO_STAMP) & (kk < b)
+                topic.newest = max(topic.newest, int(running[stop - 1]))
+                topic.floor = max(topic.floor, topic.newest - window)
+            pos += stop
+            if pos >= n:
+                break
+            # a candidate clock jump at pos: confirmed by the next samples continuing from it?
+            followers = pos + 1 + np.flatnonzero(valid[pos + 1:])[: self._confirm - 1]
+            chain = keys[np.concatenate(([pos], followers))]
+            steady = np.abs(np.diff(chain)) <= jump
+            if steady.all() and followers.size < self._confirm - 1 and not final:
+                return cls, behind, pos  # hold from here until enough samples arrived
+            if not steady.all() or followers.size < self._confirm - 1:
+                cls[pos] = _GLITCH  # not confirmed: drop it, judge the next samples afresh
+                pos += 1
+                continue
+            if topic.newest != _NO_STAMP:
+                self.count(signal, "reanchored", 1)
+            topic.newest = int(keys[pos])
+            topic.floor = max(topic.floor, topic.newest - window)
+        return cls, behind, n
+
+    def _accept(self, signal: str, topic: _Topic, final: bool) -> None:
+        """Classify the queued samples of one topic and merge the good ones into its pending buffer."""
         if not topic.raw:
             return
         stamps = np.concatenate([r[0] for r in topic.raw]) if len(topic.raw) > 1 else topic.raw[0][0]
         values = np.concatenate([r[1] for r in topic.raw]) if len(topic.raw) > 1 else topic.raw[0][1]
         topic.raw.clear()
         ns, ok_stamp = stamps_to_ns(stamps)
-        keys = ns // self._quantum
-        start, n = 0, keys.size
-        while start < n:
-            sl = slice(start, n)
-            # newest key seen *before* each sample, in arrival order (running maximum over finite stamps)
-            running = np.maximum.accumulate(np.where(ok_stamp[sl], keys[sl], _NO_STAMP))
-            before = np.empty_like(running)
-            before[0] = topic.newest
-            np.maximum(running[:-1], topic.newest, out=before[1:])
-            back = ok_stamp[sl] & (before != _NO_STAMP) & (before - keys[sl] > max(self._jump, self._window))
-            pos = np.arange(back.size)
-            last_forward = np.maximum.accumulate(np.where(back, -1, pos))
-            run = np.where(last_forward < 0, pos + 1 + topic.backwards_run, pos - last_forward)
-            hit = np.flatnonzero(back & (run >= self._reanchor))
-            end = start + int(hit[0]) + 1 if hit.size else n
-            part = slice(start, end)
-            self._classify(signal, topic, ns=ns[part], ok_stamp=ok_stamp[part], keys=keys[part],
-                           values=values[part], before=before[: end - start])
-            if hit.size:
-                topic.newest, topic.backwards_run = int(keys[end - 1]), 0
-                self.count(signal, "reanchored", 1)
-            else:
-                topic.newest = int(max(topic.newest, running[-1]))
-                topic.backwards_run = int(run[-1]) if back[-1] else 0
-            start = end
-
-    def _classify(self, signal: str, topic: _Topic, *, ns: np.ndarray, ok_stamp: np.ndarray,
-                  keys: np.ndarray, values: np.ndarray, before: np.ndarray) -> None:
-        """Count the faults of samples (newest key before each: ``before``); merge the good ones."""
+        keys = np.where(ok_stamp, ns // self._quantum, _NO_STAMP)
+        cls, behind, decided = self._order(signal, topic, keys, ok_stamp, final)
+        if decided < keys.size:
+            topic.raw.append((stamps[decided:], values[decided:]))
+            ns, ok_stamp, keys, values = ns[:decided], ok_stamp[:decided], keys[:decided], values[:decided]
+            cls, behind = cls[:decided], behind[:decided]
         lo, hi = self._bounds[signal]
-        finite = np.isfinite(values)
         bad = ~ok_stamp
         self.count(signal, "bad_stamp", np.count_nonzero(bad))
-        kind = ~bad & ~finite
+        kind = ~bad & ~np.isfinite(values)
         self.count(signal, "non_finite", np.count_nonzero(kind))
         bad |= kind
         if signal == "axial_force":
@@ -220,14 +260,10 @@ class InputAligner:
             kind = ~bad & ((values < lo) | (values > hi))
         self.count(signal, "absurd", np.count_nonzero(kind))
         bad |= kind
-        has_before = before != _NO_STAMP
-        behind = np.where(has_before, before - keys, 0)
-        kind = ~bad & has_before & (behind > self._jump) & (behind > self._window)
-        self.count(signal, "stamp_backwards", np.count_nonzero(kind))
-        bad |= kind
-        kind = ~bad & ((has_before & (behind > self._window)) | (keys < self._released_key))
-        self.count(signal, "late", np.count_nonzero(kind))
-        bad |= kind
+        for code, name in ((_GLITCH, "stamp_glitch"), (_BACKWARDS, "stamp_backwards"), (_LATE, "late")):
+            kind = ~bad & (cls == code)
+            self.count(signal, name, np.count_nonzero(kind))
+            bad |= kind
         good = np.flatnonzero(~bad)
         merged = np.concatenate([topic.keys, keys[good]])
         _, first = np.unique(merged, return_index=True)
@@ -236,7 +272,7 @@ class InputAligner:
         new_first = is_first[topic.keys.size:]
         self.count(signal, "duplicate", np.count_nonzero(~new_first))
         good = good[new_first]
-        self.count(signal, "out_of_order", np.count_nonzero(has_before[good] & (behind[good] > 0)))
+        self.count(signal, "out_of_order", np.count_nonzero(behind[good]))
         if good.size:
             topic.accepted += int(good.size)
             first_ns, last_ns = int(ns[good].min()), int(ns[good].max())
@@ -248,44 +284,59 @@ class InputAligner:
             topic.keys, topic.values = all_keys[order], all_values[order]
 
     # ------------------------------------------------------------------ output
+    def _limit(self, signal: str, topic: _Topic) -> int:
+        """Base keys below this have a final value (or a final 'missing') in ``topic``."""
+        if signal == self._base:
+            return topic.floor
+        last = int(np.searchsorted(topic.keys, topic.floor, side="left")) - 1
+        if last < 0 or topic.floor - int(topic.keys[last]) > self._bracket:
+            return topic.floor
+        return int(topic.keys[last]) + 1
+
     def release(self, final: bool = False) -> AlignedBatch:
-        """Aligned samples whose stamps can no longer be completed by later arrivals (all if ``final``)."""
+        """Aligned samples whose values can no longer change with later arrivals (all if ``final``)."""
         for signal, topic in self._topics.items():
-            self._accept(signal, topic)
-        newest = sorted(t.newest for t in self._topics.values())
+            self._accept(signal, topic, final)
         if final:
-            horizon = np.iinfo(np.int64).max
+            limit = _MAX_KEY
         else:
             # a topic lagging the median topic by more than stale_after_s no longer holds the others
-            # back (a dead sensor); the median ignores one topic running ahead (a glitched stamp)
+            # back (a dead sensor): its floor is raised to theirs
+            newest = sorted(t.newest for t in self._topics.values())
             median = newest[len(newest) // 2]
-            live = [n for n in newest if n != _NO_STAMP and median - n <= self._stale]
-            horizon = min(live) - self._window if live and median != _NO_STAMP else _NO_STAMP
-        horizon = max(horizon, self._released_key)
-        released = {}
+            if median == _NO_STAMP:
+                limit = _NO_STAMP
+            else:
+                live = {s for s, t in self._topics.items()
+                        if t.newest != _NO_STAMP and median - t.newest <= self._stale}
+                floor = min(self._topics[s].floor for s in live)
+                for s, t in self._topics.items():
+                    if s not in live:
+                        t.floor = max(t.floor, floor)
+                limit = min(self._limit(s, t) for s, t in self._topics.items())
+        limit = max(limit, self._released)
+        base = self._topics[self._base]
+        cut = int(np.searchsorted(base.keys, limit, side="left"))
+        t_keys, picked = base.keys[:cut], {self._base: base.values[:cut]}
+        base.keys, base.values = base.keys[cut:], base.values[cut:]
+        usable = np.ones(t_keys.size, bool)
         for signal, topic in self._topics.items():
-            cut = int(np.searchsorted(topic.keys, horizon, side="left"))
-            released[signal] = (topic.keys[:cut], topic.values[:cut])
-            topic.keys, topic.values = topic.keys[cut:], topic.values[cut:]
+            if signal == self._base:
+                continue
+            value, ok = self._interpolate(topic, t_keys)
+            self.count(signal, "missing", np.count_nonzero(~ok))
+            usable &= ok
+            picked[signal] = value
+            keep = max(int(np.searchsorted(topic.keys, limit, side="left")) - 1, 0)
+            topic.keys, topic.values = topic.keys[keep:], topic.values[keep:]
         if final:
-            union_max = max((int(k[-1]) for k, _ in released.values() if k.size), default=None)
-            if union_max is not None:
-                self._released_key = max(self._released_key, union_max + 1)
-        else:
-            self._released_key = horizon
-        union = np.sort(np.concatenate([k for k, _ in released.values()]))
-        first = np.ones(union.size, dtype=bool)
-        first[1:] = union[1:] != union[:-1]
-        # each topic's keys are unique, so a key present in all three topics appears three times
-        counts = np.diff(np.flatnonzero(np.append(first, True)))
-        union = union[first]
-        common = union[counts == len(released)]
-        for signal, (keys, _) in released.items():
-            self.count(signal, "missing", union.size - keys.size)
-        picked = {}
-        for signal, (keys, vals) in released.items():
-            picked[signal] = vals[np.searchsorted(keys, common)]
-        t_ns = common * self._quantum
+            for topic in self._topics.values():
+                if topic.keys.size:
+                    topic.floor = max(topic.floor, int(topic.keys[-1]) + 1)
+                topic.keys, topic.values = topic.keys[:0], topic.values[:0]
+            limit = max((t.floor for t in self._topics.values()), default=limit)
+        self._released = limit
+        common = t_keys[usable]
         gap_before = np.zeros(common.size, dtype=bool)
         if common.size:
             prev = np.empty_like(common)
@@ -294,7 +345,24 @@ class InputAligner:
             gap_before = (common - prev) > self._gap
             self._last_released_key = int(common[-1])
             self.count("stream", "gap", gap_before.sum())
-        return AlignedBatch(t_ns, picked["angle"], picked["velocity"], picked["axial_force"], gap_before)
+        return AlignedBatch(common * self._quantum, picked["angle"][usable], picked["velocity"][usable],
+                            picked["axial_force"][usable], gap_before)
+
+    def _interpolate(self, topic: _Topic, t_keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Values of ``topic`` at base keys ``t_keys`` (linear between its two samples around each, module
+        docstring) and where that was possible."""
+        keys, values = topic.keys, topic.values
+        if keys.size == 0:
+            return np.full(t_keys.size, np.nan), np.zeros(t_keys.size, bool)
+        hi = np.searchsorted(keys, t_keys, side="left")
+        hic = np.minimum(hi, keys.size - 1)
+        exact = (hi < keys.size) & (keys[hic] == t_keys)
+        loc = np.maximum(hi - 1, 0)
+        width = keys[hic] - keys[loc]
+        between = (hi > 0) & (hi < keys.size) & (width <= self._bracket)
+        frac = (t_keys - keys[loc]) / np.where(width > 0, width, 1)
+        value = np.where(exact, values[hic], values[loc] + (values[hic] - values[loc]) * frac)
+        return value, exact | between
 
     # ------------------------------------------------------------------ reporting
     def fault_counts(self) -> dict[str, dict[str, int]]:
@@ -318,5 +386,5 @@ class InputAligner:
         return out
 
     def pending(self) -> int:
-        """Samples waiting (queued or in the reorder window), all topics."""
+        """Samples waiting (queued, held for confirmation or in the reorder window), all topics."""
         return sum(t.keys.size + sum(r[0].size for r in t.raw) for t in self._topics.values())

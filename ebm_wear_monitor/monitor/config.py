@@ -50,21 +50,34 @@ class MonitorConfig:
         "DDS delivery jitter (sub-ms, environment.md)")
     stamp_quantum_s: float = _p(
         1e-6, "s", 1e-9, 0.01,
-        "header stamps of the three topics are matched after flooring to this quantum; the topics are "
-        "sampled together, so 1 us only absorbs float rounding of stamps given in seconds")
+        "header stamps are floored to this quantum; two samples of one topic in the same quantum are "
+        "duplicates. 1 us is far below any sample period of interface.md (100 Hz to 2 kHz)")
+    time_base: str = _p(
+        "axial_force", "", None, None,
+        "the topic whose stamps are the common time base: the other topics are interpolated linearly at "
+        "its stamps (interface.md section 2: topics need not share rates or stamps). The force, because "
+        "wear and the clearance observation are functions of the load at the instants it was measured",
+        choices=("axial_force", "angle", "velocity"))
+    max_interpolation_s: float = _p(
+        0.025, "s", 1e-6, 10.0,
+        "a topic is interpolated at a base stamp only between two of its samples at most this far apart; "
+        "wider, its value there is 'missing'. 25 ms: one dropped sample at the slowest rate of "
+        "interface.md (100 Hz) plus jitter")
     stale_after_s: float = _p(
         2.0, "s", 0.01, 3600.0,
         "a topic whose newest stamp lags the median topic's by more than this no longer holds the "
         "others back (its missing samples are counted)")
     backwards_jump_s: float = _p(
         1.0, "s", 0.0, 1e6,
-        "a dropped stamp further than this behind its topic's newest is counted 'stamp_backwards' "
-        "(clock reset, bag played in a loop) rather than 'late'")
+        "a stamp further than this behind its topic's newest is counted 'stamp_backwards' (clock reset, "
+        "bag played in a loop) rather than 'late'; one further than this ahead is a clock jump that "
+        "the next reanchor_after_samples samples must confirm")
     reanchor_after_samples: int = _p(
-        200, "-", 1, 1 << 30,
-        "after this many 'stamp_backwards' samples in a row a topic's clock is re-anchored at them "
-        "(0.2 s at 1 kHz): a single stamp from the future cannot blind the topic; data already "
-        "released (a bag played again) is still dropped as 'late'")
+        10, "-", 1, 1 << 20,
+        "a stamp more than backwards_jump_s ahead of its topic's newest (and a topic's first stamp) is "
+        "accepted only once this many samples in a row continue from it (each within backwards_jump_s "
+        "of the one before); otherwise it is a 'stamp_glitch' and dropped. 10: up to 9 glitched stamps "
+        "in a row are rejected, for 10 periods of latency (10 ms at 1 kHz)")
     gap_s: float = _p(
         0.1, "s", 1e-4, 3600.0,
         "consecutive aligned samples further apart than this are a 'gap': no wear is integrated across "

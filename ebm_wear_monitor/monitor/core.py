@@ -31,12 +31,12 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from ebm_wear_monitor import physics
-from ebm_wear_monitor.monitor.alignment import InputAligner
+from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, InputAligner
 from ebm_wear_monitor.monitor.config import MonitorConfig
 from ebm_wear_monitor.monitor.kalman import ClearanceFilter
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
@@ -80,6 +80,13 @@ class CycleSummary:
     @property
     def end_s(self) -> float:
         return self.end_ns * 1e-9
+
+
+class Application(NamedTuple):
+    """Event of one completed brake application: its summary and the core's snapshot right after it."""
+
+    cycle: CycleSummary
+    snapshot: MonitorSnapshot | None  # None when asked for the cycles only (MonitorCore.process)
 
 
 @dataclass(frozen=True)
@@ -207,21 +214,35 @@ class MonitorCore:
     # ------------------------------------------------------------------ input and processing
     def add(self, signal: str, stamps: np.ndarray, values: np.ndarray) -> None:
         """Queue samples of one topic: ``signal`` in {"angle", "velocity", "axial_force"} ("current" is
-        ignored); ``stamps`` header stamps as int64 ns (exact, preferred) or float s; ``values`` in SI units.
-        Any chunk size; topics may be interleaved in any way."""
+        ignored); ``stamps`` header stamps as int64 ns (exact: what the node and the replay give) or float
+        s (rounded to 1 ns, for generators); ``values`` in SI units. Any chunk size; topics may be
+        interleaved in any way."""
         self._aligner.add(signal, stamps, values)
+
+    def count(self, signal: str, kind: str, n: int) -> None:
+        """Count ``n`` samples of ``signal`` lost before they reached the core (``undecodable``, ``lost``)."""
+        if kind not in FAULT_KINDS:
+            raise ValueError(f"unknown fault kind {kind!r}")
+        self._aligner.count(signal, kind, n)
 
     def process(self, final: bool = False) -> list[CycleSummary]:
         """Consume everything alignment can release now (everything if ``final``: end of data).
 
         Returns the brake applications completed on the way, in order.
         """
+        return [a.cycle for a in self._run(final, snapshots=False)]
+
+    def process_events(self, final: bool = False) -> list[Application]:
+        """As :meth:`process`, each application with the snapshot taken right after it (chunk-invariant)."""
+        return self._run(final, snapshots=True)
+
+    def _run(self, final: bool, snapshots: bool) -> list[Application]:
         batch = self._aligner.release(final)
-        out: list[CycleSummary] = []
+        out: list[Application] = []
         for seg in self._segmenter.feed(batch, final):
             summary = self._integrate(seg)
             if summary is not None:
-                out.append(summary)
+                out.append(Application(summary, self.snapshot() if snapshots else None))
                 if (self.state_path is not None
                         and self._st.duty_cycles % self.config.checkpoint_every_cycles == 0):
                     self.save()

@@ -27,7 +27,8 @@ def _faulty_arrivals(synth):
     keep[(t > mk["apply_end"] + 0.02) & (t < mk["apply_end"] + 0.32)] = False
     out = {}
     idx = list(np.flatnonzero(keep))
-    a_idx = [i for i in idx if i not in (500, 1500, 2500)]
+    # single samples are interpolated; a 40 ms hole (> max_interpolation_s) is 'missing'
+    a_idx = [i for i in idx if i not in (500, 1500, 2500) and not 4000 <= i < 4040]
     a_val = synth.angle.copy()
     a_val[[700, 1700]] = np.nan
     out["angle"] = (t[a_idx], a_val[a_idx])
