@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from ebm_wear_monitor.bagio import bag_message_count
+from ebm_wear_monitor.bagio import BagReader
 from ebm_wear_monitor.fleet.cluster import dask_client
 from ebm_wear_monitor.fleet.discover import discover
 from ebm_wear_monitor.fleet.pipeline import process_unit, run_fleet
@@ -56,7 +56,8 @@ def main() -> None:
         with dask_client(n_workers=2) as client:
             units = scenarios(args.units, 7, cycles_per_bag=args.cycles, rate_hz=args.rate)
             params, bags = generate_fleet(root, units, params, client=client)
-        messages = bag_message_count(bags)
+        with BagReader(bags) as reader:
+            messages = reader.total
         print(f"fleet: {args.units} units, {len(bags)} bags, {messages} messages at {args.rate:g} Hz")
         warm_up(params)
         units = discover(root)

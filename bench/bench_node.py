@@ -60,7 +60,7 @@ def bare_subscriber(executor_kind: str) -> int:
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
-    from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
+    from ebm_wear_monitor.monitor.wire import INPUT_TOPICS
     from ebm_wear_monitor.ros.node import make_executor
     from ebm_wear_monitor.ros.qos import input_qos
 

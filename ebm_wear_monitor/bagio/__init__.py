@@ -1,51 +1,59 @@
-"""Bag I/O of the input topics (interface.md section 2) with rosbags: types, bulk writer, bulk reader.
+"""Bag I/O of the input topics (interface.md section 2): types, bulk writer (rosbags), streaming reader.
 
 Public API (all lengths/times SI; signals named as in interface.md section 4)::
 
     from ebm_wear_monitor.bagio import (
-        write_unit_bag, Series, read_bags, Recording, UnitData, Signal, read_ground_truth,
-        typestore, FLOAT64_STAMPED, INPUT_TOPICS, split_topic, topic_name)
+        write_unit_bag, BagWriter, Series, BagReader, read_bags, Recording, UnitData, Signal,
+        read_ground_truth, typestore, FLOAT64_STAMPED, INPUT_TOPICS, split_topic, topic_name)
 
     n = write_unit_bag(path, t, signals_by_namespace, *, storage="mcap", frame_id="",
                        ground_truth=None) -> int
         path: new bag directory (must not exist; written to a temp dir, then renamed)
-        t: sample times [s] shared by all signals | {namespace: times} | None
+        t: sample times (float s or int64 ns) shared by all signals | {namespace: times} | None
         signals_by_namespace: {"/embu": {"angle": rad, "velocity": rad/s,
                                          "axial_force": N, "current": A}}
-            each value an array aligned with t, or Series(stamps_s, values, received_s=None)
-            (received_s = bag/receive time, to record late or duplicated delivery)
+            each value an array aligned with t, or Series(stamps, values, received=None)
+            (received = bag/receive time, to record late or duplicated delivery)
         storage: "mcap" | "sqlite3"; frame_id: header.frame_id of every message
         ground_truth: JSON-able simulator truth -> <bag>/ground_truth.json (schema: bagio.sidecar)
 
-    rec = read_bags(paths, progress=None) -> Recording
-        rec.units["/embu"].signals["angle"].stamps   # header stamps [s], float64, receive order
-        rec.units["/embu"].signals["angle"].values   # data [rad]
-        rec.units["/embu"].bags                      # bags of that unit, time order
-        rec.rejected  # {"<bag>: <topic>": reason} input topic names with a wrong type (skipped)
-        raises InputError (one line) for missing/unreadable/truncated/corrupt bags,
-        unknown storage, or a bag with no input topic of type ebm_wear_msgs/msg/Float64Stamped
+    with BagReader(paths, signals=None, stamps="header", strict=False, failed=None) as reader:
+        reader.units      # {unit: [bags]}; reader.total: progress units (storage index, no counting)
+        for batches in reader.batches(progress=None):   # {unit: monitor.wire.Batch}, chunk by chunk
+            ...           # Batch.signals[s] = (header stamps [ns] int64, values); Batch.faults
+        reader.rejected   # {"<bag>: <topic>": reason} input topic names with a wrong type (skipped)
+        reader.problems   # one line per damaged storage place / topic with lost messages
+
+    rec = read_bags(paths, progress=None, **reader_options) -> Recording   # the whole, in memory
+        rec.units["/embu"].signals["angle"].stamps_ns  # header stamps [ns], int64, receive order
+        rec.units["/embu"].signals["angle"].stamps     # the same in s (float, for plots/diagnosis)
+        rec.units["/embu"].signals["angle"].values     # data [rad]
+        rec.units["/embu"].bags                        # bags of that unit, time order
+    raise InputError (one line) for missing/unreadable/corrupt bags, unknown storage, or a bag
+    with no input topic of type ebm_wear_msgs/msg/Float64Stamped
 
     read_ground_truth(bag) -> dict | None
 
     typestore() -> rosbags Typestore with ebm_wear_msgs/msg/* registered from msg_defs/msg/*.msg
 """
 
-from ebm_wear_monitor.bagio.reader import Recording, Signal, UnitData, bag_message_count, read_bags
+from ebm_wear_monitor.bagio.reader import BagReader, Recording, Signal, UnitData, read_bags
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE, read_ground_truth
-from ebm_wear_monitor.bagio.topics import INPUT_TOPICS, split_topic, topic_name
-from ebm_wear_monitor.bagio.types import FLOAT64_STAMPED, message_types, msg_dir, typestore
-from ebm_wear_monitor.bagio.writer import STORAGES, Series, write_unit_bag
+from ebm_wear_monitor.bagio.types import message_types, msg_dir, typestore
+from ebm_wear_monitor.bagio.writer import STORAGES, BagWriter, Series, write_unit_bag
+from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS, split_topic, topic_name
 
 __all__ = [
     "FLOAT64_STAMPED",
     "GROUND_TRUTH_FILE",
     "INPUT_TOPICS",
     "STORAGES",
+    "BagReader",
+    "BagWriter",
     "Recording",
     "Series",
     "Signal",
     "UnitData",
-    "bag_message_count",
     "message_types",
     "msg_dir",
     "read_bags",

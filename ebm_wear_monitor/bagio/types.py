@@ -17,10 +17,10 @@ from pathlib import Path
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
+from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED
+
 #: ROS 2 interface package of the project's messages (``msg_defs/``)
-MSG_PACKAGE = "ebm_wear_msgs"
-#: the input type of interface.md section 1: ``std_msgs/Header header`` + ``float64 data``
-FLOAT64_STAMPED = f"{MSG_PACKAGE}/msg/Float64Stamped"
+MSG_PACKAGE = FLOAT64_STAMPED.split("/", 1)[0]
 #: the ROS 2 distribution whose std_msgs/builtin_interfaces definitions the typestore starts from
 ROS_STORE = Stores.ROS2_KILTED
 

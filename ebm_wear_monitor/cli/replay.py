@@ -24,6 +24,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="monitor-core thresholds: the node's ROS parameter file (e.g. "
                              "config/wear_monitor.yaml) or a flat YAML mapping (default: the defaults)")
     add_output_options(parser)
+    parser.add_argument("--stamps", choices=("header", "log"), default="header",
+                        help="sample time of each message: its header.stamp (default; interface.md "
+                             "section 2) or the bag's log (receive) time, when header stamps are unusable")
+    parser.add_argument("--strict", action="store_true",
+                        help="damaged storage (messages lost against metadata.yaml or the storage index, a "
+                             "chunk failing its CRC) is an error (exit 2) instead of a counted 'lost' fault")
 
 
 def format_unit(entry: dict) -> str:
@@ -63,27 +69,32 @@ def format_unit(entry: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Replay, print, write JSON and report."""
-    from ebm_wear_monitor.bagio import bag_message_count
     from ebm_wear_monitor.outputs import write_json
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.replay.config import load_monitor_config
-    from ebm_wear_monitor.replay.report import write_replay_report
     from ebm_wear_monitor.replay.run import replay_bags
 
     check_outputs(args)
     params = load_unit(args.params)
     config = load_monitor_config(args.config) if args.config else None
-    total = bag_message_count(args.bags)
-    with progress(args, total, "read", "msg") as read_bar, progress(args, total, "monitor", "msg") as bar:
-        result = replay_bags(args.bags, params, config=config, read_progress=read_bar.update,
-                             progress=bar.update)
+    with progress(args, None, "replay", "msg") as bar:
+        def total(n: int) -> None:  # known once the bags are open: from their own indexes
+            bar.total = n
+            bar.refresh()
+
+        result = replay_bags(args.bags, params, config=config, progress=bar.update, total=total,
+                             stamps=args.stamps, strict=args.strict)
     for unit in result.units:
         print(format_unit(unit.to_json_dict()))
     for where, why in result.rejected.items():
         print(f"skipped {where}: {why}")
+    for problem in result.problems:
+        print(f"storage: {problem}")
     if args.json:
         write_json(args.json, result.to_json_dict())
     if args.report:
+        from ebm_wear_monitor.replay.report import write_replay_report
+
         write_replay_report(args.report, result.units, result.rejected)
         print(f"report: {Path(args.report) / 'index.html'}")
     return 0

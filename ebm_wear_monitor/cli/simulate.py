@@ -57,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.bagio import write_unit_bag
-    from ebm_wear_monitor.bagio.topics import check_namespace
+    from ebm_wear_monitor.monitor.wire import check_namespace
     from ebm_wear_monitor.outputs import check_destination
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.twin import NOISELESS, SensorNoise, simulate_unit

@@ -1,19 +1,14 @@
-"""Offline replay: recorded input topics through :class:`~ebm_wear_monitor.monitor.MonitorCore`, unchanged.
+"""Offline replay: recorded input topics through the monitor core's :class:`~ebm_wear_monitor.monitor.Feeder`.
 
-The live node and the replay share the monitor core and the bulk CDR decoder
-(``bagio.cdr``), and the core is chunk-invariant (its decisions depend on
-per-topic arrival order and values only), so a replay gives the numbers the
-node would have published for the same messages.
-
-The samples are fed in windows of ``HISTORY_WINDOW_S`` of header-stamp time
-(per topic, by the running maximum of its stamps, so late messages stay in
-arrival order); after each window that completed a brake application the
-core's snapshot gives the remaining-life distribution and cumulative wear for
-the per-application history (as the node publishes them after each
-processing tick). A brake application lasts longer than a window, so no
-window completes two; if one ever did, only its last application gets the
-snapshot's values and the others NaN, never copied numbers. ``motor/current`` is
-not fed: the wear monitor does not use it (interface.md section 2).
+The bags are streamed (:class:`~ebm_wear_monitor.bagio.BagReader`: storage
+chunks decoded in bulk by the node's own decoder, ``monitor.wire``) and each
+unit's batches go to its own feeder, the component the live node's timer
+drives too; the core's decisions depend only on each topic's arrival order and
+values, and the snapshot of each application is taken inside the core right
+after it, so the replay gives the numbers the node would have published for the
+same records, in memory bounded by one storage chunk whatever the length.
+``motor/current`` is not read: the wear monitor does not use it (interface.md
+section 2).
 """
 
 from __future__ import annotations
@@ -21,15 +16,18 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
-from ebm_wear_monitor.bagio import Recording, UnitData, read_bags, read_ground_truth
+from ebm_wear_monitor.bagio import BagReader, Recording, Signal, UnitData, read_ground_truth
 from ebm_wear_monitor.bagio.rates import check_rates
 from ebm_wear_monitor.monitor import (
     SIGNALS,
+    Application,
+    Batch,
     CycleSummary,
+    Feeder,
     MonitorConfig,
     MonitorCore,
     MonitorSnapshot,
@@ -39,34 +37,19 @@ from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.replay.prognostics import prognostics_metrics
 from ebm_wear_monitor.replay.result import APPLICATION_COLUMNS, UnitReplay
 
-#: header-stamp time fed to the core between two snapshots [s]
-HISTORY_WINDOW_S = 0.25
-_STAMP_CLIP = 1e12  # [s]; keeps window keys of absurd or non-finite stamps representable
-
 
 @dataclass
 class ReplayResult:
-    """All units of one replay, and the input topics skipped for a wrong type."""
+    """All units of one replay, the input topics skipped for a wrong type, and storage damage found."""
 
     units: list[UnitReplay]
     rejected: dict[str, str] = field(default_factory=dict)
+    problems: list[str] = field(default_factory=list)
 
     def to_json_dict(self) -> dict:
-        """The replay JSON of interface.md section 4 (plus ``rejected_topics``)."""
-        return {"units": [u.to_json_dict() for u in self.units], "rejected_topics": self.rejected}
-
-
-def _window_bounds(data: UnitData, window_s: float) -> dict[str, np.ndarray]:
-    """Per signal, the end index of each window (the same windows for every signal)."""
-    keys = {}
-    for name in SIGNALS:
-        if name in data.signals:
-            stamps = data.signals[name].stamps
-            run = np.fmax.accumulate(stamps) if len(stamps) else np.empty(0)
-            run = np.clip(np.nan_to_num(run, nan=-_STAMP_CLIP), -_STAMP_CLIP, _STAMP_CLIP)
-            keys[name] = np.floor(run / window_s).astype(np.int64)
-    edges = np.unique(np.concatenate(list(keys.values()) or [np.empty(0, np.int64)]))
-    return {name: np.searchsorted(k, edges, side="right") for name, k in keys.items()}
+        """The replay JSON of interface.md section 4 (plus ``rejected_topics`` and ``storage_problems``)."""
+        return {"units": [u.to_json_dict() for u in self.units], "rejected_topics": self.rejected,
+                "storage_problems": self.problems}
 
 
 def _row(cycle: CycleSummary, snap: MonitorSnapshot | None) -> dict:
@@ -84,10 +67,47 @@ def _row(cycle: CycleSummary, snap: MonitorSnapshot | None) -> dict:
     return row
 
 
+class UnitRun:
+    """One unit's monitor core fed batch by batch; collects the per-application history."""
+
+    def __init__(self, unit: str, params: UnitParams, config: MonitorConfig | None = None,
+                 state: MonitorState | None = None) -> None:
+        self.unit = unit
+        self.feeder = Feeder(MonitorCore(params, config, state))
+        self.rows: list[dict] = []
+        self._rated: set[str] = set()  # signals whose sample rate has been checked
+
+    def _collect(self, events: list[Application]) -> None:
+        self.rows += [_row(a.cycle, a.snapshot) for a in events]
+
+    def feed(self, batch: Batch) -> None:
+        """Queue one batch of this unit's records and collect the applications it completed.
+
+        The first batch holding a signal (two samples or more) checks its sample rate against the
+        contract (:func:`~ebm_wear_monitor.bagio.rates.check_rates`: InputError below 100 Hz).
+        """
+        fresh = {s: Signal(*arrays) for s, arrays in batch.signals.items()
+                 if s not in self._rated and arrays[0].size >= 2}
+        if fresh:
+            check_rates(UnitData(self.unit, fresh, []), fresh)
+            self._rated |= set(fresh)
+        self._collect(self.feeder.feed(batch))
+
+    def finish(self, bags: Iterable[Path], truth: dict | None) -> UnitReplay:
+        """End of the data: everything released; the unit's result (``truth``: its ground-truth entry)."""
+        self._collect(self.feeder.finish())
+        core = self.feeder.core
+        applications = pd.DataFrame(self.rows, columns=list(APPLICATION_COLUMNS))
+        result = UnitReplay(self.unit, {"unit": self.unit, **core.snapshot().to_json_dict()}, applications,
+                            bags=[str(b) for b in bags], messages=self.feeder.messages, truth=truth,
+                            state=core.state.to_dict())
+        result.prognostics = judge(applications, truth)
+        return result
+
+
 def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *,
-                config: MonitorConfig | None = None, progress: Callable[[int], object] | None = None,
-                window_s: float = HISTORY_WINDOW_S, state: MonitorState | None = None) -> UnitReplay:
-    """Run the monitor core over one unit's signals; ``truth`` is its ground-truth entry (bagio.sidecar).
+                config: MonitorConfig | None = None, state: MonitorState | None = None) -> UnitReplay:
+    """Run the monitor core over one unit's signals read whole (:func:`bagio.read_bags`).
 
     With ``state`` (an earlier replay's ``UnitReplay.state``) the core continues from it, as the node
     does after a restart: counts, wear, filter and faults carry on; the applications table holds the
@@ -95,34 +115,13 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
     :func:`~ebm_wear_monitor.bagio.rates.check_rates`), before any work.
     """
     check_rates(data, SIGNALS)
-    core = MonitorCore(params, config, state)
-    bounds = _window_bounds(data, window_s)
-    n_windows = len(next(iter(bounds.values()), []))
-    start = dict.fromkeys(bounds, 0)
-    rows: list[dict] = []
-    for w in range(n_windows):
-        fed = 0
-        for name, ends in bounds.items():
-            a, b = start[name], ends[w]
-            if b > a:
-                sig = data.signals[name]
-                core.add(name, sig.stamps[a:b], sig.values[a:b])
-                fed += b - a
-            start[name] = b
-        cycles = core.process(final=w == n_windows - 1)
-        if cycles:
-            snap = core.snapshot()
-            rows += [_row(c, snap if i == len(cycles) - 1 else None) for i, c in enumerate(cycles)]
-        if progress is not None and fed:
-            progress(fed)
-    if not n_windows:
-        core.process(final=True)
-    applications = pd.DataFrame(rows, columns=list(APPLICATION_COLUMNS))
-    result = UnitReplay(data.unit, {"unit": data.unit, **core.snapshot().to_json_dict()}, applications,
-                        bags=[str(b) for b in data.bags], messages=data.messages, truth=truth,
-                        state=core.state.to_dict())
-    result.prognostics = judge(applications, truth)
-    return result
+    run = UnitRun(data.unit, params, config, state)
+    batch = Batch({s: (sig.stamps_ns, sig.values) for s, sig in data.signals.items() if s in SIGNALS})
+    for signal, per in data.faults.items():
+        for kind, n in per.items():
+            batch.count(signal, kind, n)
+    run.feed(batch)
+    return run.finish(data.bags, truth)
 
 
 def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
@@ -137,27 +136,38 @@ def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
     return prognostics_metrics(since_new, rul, float(truth["eol_cycles"]))
 
 
-def truth_by_namespace(recording: Recording) -> dict[str, dict]:
-    """Ground-truth entries per unit from the bags' sidecars.
+def truth_by_namespace(units: dict[str, list[Path]] | Recording) -> dict[str, dict]:
+    """Ground-truth entries per unit from the sidecars of its bags (``{unit: bags}`` or a Recording).
 
     The latest bag's entry is taken, with ``cycles_at_start`` of the *first* bag:
     the replay counts applications from the start of the first bag, so
     application ``k`` of the replay is ``cycles_at_start + k`` since new.
     """
+    if isinstance(units, Recording):
+        units = {unit: data.bags for unit, data in units.units.items()}
     truths: dict[str, dict] = {}
-    for unit, data in recording.units.items():
-        entries = [t["units"][unit] for t in map(read_ground_truth, data.bags) if t and unit in t["units"]]
+    for unit, bags in units.items():
+        entries = [t["units"][unit] for t in map(read_ground_truth, bags) if t and unit in t["units"]]
         if entries:
             truths[unit] = {**entries[-1], "cycles_at_start": entries[0].get("cycles_at_start", 0)}
     return truths
 
 
 def replay_bags(paths: Iterable, params: UnitParams, *, config: MonitorConfig | None = None,
-                read_progress: Callable[[int], object] | None = None,
-                progress: Callable[[int], object] | None = None) -> ReplayResult:
-    """Read ``paths`` and replay every unit (namespace) found, in unit-name order."""
-    recording = read_bags(paths, progress=read_progress)
-    truths = truth_by_namespace(recording)
-    units = [replay_unit(data, params, truths.get(ns), config=config, progress=progress)
-             for ns, data in recording.units.items()]
-    return ReplayResult(units, dict(recording.rejected))
+                progress: Callable[[int], object] | None = None, total: Callable[[int], object] | None = None,
+                stamps: str = "header", strict: bool = False) -> ReplayResult:
+    """Stream ``paths`` and replay every unit (namespace) found, in unit-name order.
+
+    ``total(n)`` is called once with the progress units of the whole read (from the storages' own
+    indexes), ``progress(n)`` after every chunk; ``stamps``/``strict`` as for :class:`BagReader`.
+    """
+    with BagReader(paths, signals=SIGNALS, stamps=stamps, strict=strict) as reader:
+        if total is not None:
+            total(reader.total)
+        runs = {unit: UnitRun(unit, params, config) for unit in reader.units}
+        for batches in reader.batches(progress):
+            for unit, batch in batches.items():
+                runs[unit].feed(batch)
+        truths = truth_by_namespace(reader.units)
+        units = [run.finish(reader.units[unit], truths.get(unit)) for unit, run in runs.items()]
+        return ReplayResult(units, dict(reader.rejected), list(reader.problems))

@@ -1,16 +1,18 @@
-"""Input buffering of the node: raw CDR records in, numpy arrays of (stamp [s], value) out.
+"""Input buffering of the node: raw CDR records in, a :class:`~ebm_wear_monitor.monitor.wire.Batch` out.
 
 At 3 x 1 kHz the Python cost per message decides whether the node keeps up
 (``shared/notes/environment.md``: 11-13 us per callback with the EventsExecutor,
 80 us with the SingleThreadedExecutor). So the subscriptions are ``raw=True``
 and their callback is ``list.append`` of the serialised record (no message
 object is built); a timer drains the lists at ``process_rate_hz`` and decodes
-each batch at once with ``bagio.cdr.decode_float64_stamped``, the decoder the
-offline replay uses, so both hand the monitor core bit-identical floats.
+each batch at once with :func:`ebm_wear_monitor.monitor.wire.decode_records`,
+the decoder the replay uses on storage records, so both hand the core the same
+int64 ns stamps and float64 values.
 
-A record that cannot be decoded (corrupt, or written by a foreign definition
-of the type) is dropped and counted as ``undecodable``; the rest of its batch
-is kept.
+A record the bulk decoder does not recognise goes through rclpy's own
+deserializer (the replay uses rosbags' there); one that neither decodes is
+dropped and counted ``undecodable`` in the batch (the core counts it), the rest
+of its batch is kept.
 """
 
 from __future__ import annotations
@@ -20,7 +22,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ebm_wear_monitor.bagio.cdr import decode_float64_stamped
+from ebm_wear_monitor.monitor.wire import Batch, Decoded, decode_records, stamp_ns
+
+
+def _general(decoded: Decoded, raws: list[bytes]) -> None:
+    """Records the bulk decoder did not recognise, through rclpy's deserializer (in place)."""
+    if decoded.ok.all():
+        return
+    from ebm_wear_msgs.msg import Float64Stamped
+    from rclpy.serialization import deserialize_message
+
+    for i in np.flatnonzero(~decoded.ok).tolist():
+        try:
+            msg = deserialize_message(raws[i], Float64Stamped)
+        except Exception:  # any deserializer failure means an undecodable record
+            continue
+        decoded.stamps_ns[i] = int(stamp_ns(msg.header.stamp.sec, msg.header.stamp.nanosec))
+        decoded.values[i] = msg.data
+        decoded.ok[i] = True
 
 
 @dataclass
@@ -30,32 +49,23 @@ class InputBuffer:
     signal: str  # signal name of interface.md section 4 (angle, velocity, axial_force)
     pending: list[bytes] = field(default_factory=list)
     received: int = 0  # messages drained so far [-]
-    undecodable: int = 0  # records that failed to decode [-]
     last_arrival: float = -np.inf  # time.monotonic() of the last drain that found messages [s]
     _rate_count: int = 0
     _rate_since: float = field(default_factory=time.monotonic)
 
-    def drain(self) -> tuple[np.ndarray, np.ndarray]:
-        """Take every pending record; returns (header stamps [s], values), in arrival order."""
+    def drain(self, into: Batch) -> None:
+        """Take every pending record, decoded, into ``into`` (arrival order; undecodable ones counted)."""
         if not self.pending:
-            return np.empty(0), np.empty(0)
-        batch = self.pending.copy()  # the subscription's callback is this list's bound ``append``
+            return
+        raws = self.pending.copy()  # the subscription's callback is this list's bound ``append``
         self.pending.clear()
-        self.received += len(batch)
-        self._rate_count += len(batch)
+        self.received += len(raws)
+        self._rate_count += len(raws)
         self.last_arrival = time.monotonic()
-        try:
-            return decode_float64_stamped(batch)
-        except Exception:  # a corrupt record spoils the bulk decode: decode one by one, drop the bad
-            good = []
-            for raw in batch:
-                try:
-                    good.append(decode_float64_stamped([raw]))
-                except Exception:
-                    self.undecodable += 1
-            if not good:
-                return np.empty(0), np.empty(0)
-            return np.concatenate([g[0] for g in good]), np.concatenate([g[1] for g in good])
+        decoded = decode_records(raws)
+        _general(decoded, raws)
+        into.add(self.signal, decoded.stamps_ns[decoded.ok], decoded.values[decoded.ok])
+        into.count(self.signal, "undecodable", int(decoded.ok.size - np.count_nonzero(decoded.ok)))
 
     def rate_hz(self) -> float:
         """Mean arrival rate since the previous call [Hz] (resets the window)."""

@@ -7,13 +7,15 @@ so the node and the offline replay give identical numbers. The node only:
 1. subscribes to ``screw/angle``, ``screw/velocity`` and ``axial_force``
    (interface.md section 2; sensor-data QoS by default) with raw callbacks that
    append the serialised record to a list (:mod:`.inputs`);
-2. at ``process_rate_hz`` decodes each list in bulk and hands the arrays of
-   (header stamp [s], value) to ``core.add``, then calls ``core.process``;
-   alignment, duty-cycle segmentation, wear integration, the Kalman filter
-   and the remaining life all happen in there;
+2. at ``process_rate_hz`` decodes each list in bulk (``monitor.wire``) into one
+   batch of (header stamp [ns], value) per topic and hands it to the core's
+   :class:`~ebm_wear_monitor.monitor.Feeder`, the component ``ebm-wear replay``
+   drives with storage chunks; alignment, duty-cycle segmentation, wear
+   integration, the Kalman filter and the remaining life all happen in the core;
 3. publishes one ``duty_cycle`` and one ``wear`` message per completed brake
-   application, ``remaining_life`` (latched) after each, and ``/diagnostics``
-   at ``diagnostics_period_s`` (:mod:`.diagnostics`);
+   application, ``remaining_life`` (latched) after each (from the snapshot the
+   core takes right after it), and ``/diagnostics`` at ``diagnostics_period_s``
+   (:mod:`.diagnostics`);
 4. persists the state atomically (the core's ``save_state``: temp file, fsync,
    rename) every ``checkpoint_every_cycles`` applications and at shutdown
    (SIGINT or SIGTERM: last inputs processed, state saved, exit 0), and resumes
@@ -51,11 +53,10 @@ from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from ebm_wear_monitor.bagio.topics import INPUT_TOPICS
-from ebm_wear_monitor.bagio.types import FLOAT64_STAMPED
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor import MonitorCore, MonitorState, load_state
+from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore, MonitorState, load_state
 from ebm_wear_monitor.monitor.persistence import backup_path
+from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS
 from ebm_wear_monitor.params import UnitParams, load_unit
 from ebm_wear_monitor.ros import messages
 from ebm_wear_monitor.ros.diagnostics import (
@@ -137,6 +138,7 @@ class WearMonitorNode:
         # the core saves the state atomically every checkpoint_every_cycles applications, before
         # returning them: a published application is never newer than what a restart resumes from
         self.core = MonitorCore(self.unit, params.monitor_config, state, state_path=self.state_path)
+        self.feeder = Feeder(self.core)
         params.listeners.append(self.on_parameters)
         self.core_errors = 0
         self.core_error = ""
@@ -162,26 +164,24 @@ class WearMonitorNode:
 
     # ------------------------------------------------------------------ processing
     def step(self) -> None:
-        """Push every buffered input through the core; publish what completed (the core checkpoints)."""
+        """Push every buffered input through the feeder; publish each application it completed (the core
+        checkpoints): one ``duty_cycle``, one ``wear`` and the latched ``remaining_life`` per application,
+        from the snapshot taken right after it (the replay records the same snapshots)."""
         try:
-            for s, buffer in self.inputs.items():
-                stamps, values = buffer.drain()
-                if len(stamps):
-                    self.core.add(s, stamps, values)
-            cycles = self.core.process(False)
+            batch = Batch()
+            for buffer in self.inputs.values():
+                buffer.drain(batch)
+            events = self.feeder.feed(batch)
         except Exception as exc:  # bad input must never stop the node
             self.core_errors += 1
             self.core_error = " ".join(str(exc).split())[:200] or type(exc).__name__
             self.node.get_logger().error(f"monitor core failed on a batch: {self.core_error}",
                                          throttle_duration_sec=5.0)
             return
-        if not cycles:
-            return
-        snap = self.core.snapshot()
-        for cycle in cycles:
-            self.pub_cycle.publish(messages.duty_cycle(cycle))
-        self.pub_wear.publish(messages.wear_state(snap))
-        self.publish_remaining_life(snap)
+        for event in events:
+            self.pub_cycle.publish(messages.duty_cycle(event.cycle))
+            self.pub_wear.publish(messages.wear_state(event.snapshot))
+            self.publish_remaining_life(event.snapshot)
 
     def on_parameters(self, names: set[str]) -> None:
         """A validated parameter change: hand changed core thresholds to the core."""
@@ -208,7 +208,7 @@ class WearMonitorNode:
         snap = self.core.snapshot()
         self.wrong_type_publishers = self._count_wrong_type_publishers()
         faults = {k: v for k, v in snap.input_faults.items() if k not in BENIGN_FAULTS}
-        faults["undecodable"] = sum(b.undecodable for b in self.inputs.values())
+        faults.setdefault("undecodable", 0)  # counted by the core (inputs.py); shown even when zero
         faults["wrong_type_publishers"] = self.wrong_type_publishers
         faults["core_errors"] = self.core_errors
         total = sum(faults.values())

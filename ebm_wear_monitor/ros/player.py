@@ -4,7 +4,7 @@
 this player reads the input topics of interface.md section 2 with
 :func:`ebm_wear_monitor.bagio.read_bags` and publishes each sample as one
 ``ebm_wear_msgs/msg/Float64Stamped`` carrying its recorded ``header.stamp``,
-serialised in bulk (``bagio.cdr``) and published as raw CDR bytes, so the
+serialised in bulk (``monitor.wire``, stamps exact in ns) and published as raw CDR bytes, so the
 player costs little beside the node it feeds (tests, benchmark).
 
 Order and pacing: the reader gives each signal in recording order. The
@@ -45,10 +45,9 @@ from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.signals import SignalHandlerOptions
 
-from ebm_wear_monitor.bagio.cdr import encode_float64_stamped
-from ebm_wear_monitor.bagio.topics import INPUT_TOPICS, check_namespace
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.alignment import SIGNALS as MONITOR_SIGNALS
+from ebm_wear_monitor.monitor.wire import INPUT_TOPICS, check_namespace, encode_records, seconds_to_ns
 from ebm_wear_monitor.ros.qos import input_qos
 
 PROG = "ebm-wear-player"
@@ -78,7 +77,7 @@ def publish_order(signals: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> tuple
 
 
 class Player:
-    """Publishes per-signal (stamps [s], values) arrays on ``<namespace>/<input topic>``."""
+    """Publishes per-signal (stamps [ns] int64 or [s] float, values) on ``<namespace>/<input topic>``."""
 
     def __init__(self, node: Node, namespace: str, signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
                  reliable: bool = False) -> None:
@@ -93,8 +92,10 @@ class Player:
             for s in signals]
         #: the publishers whose topics the wear monitor subscribes to (the ones worth waiting for)
         self.monitored = [p for s, p in zip(signals, self.publishers, strict=True) if s in MONITOR_SIGNALS]
-        self._signals = list(signals.values())
-        self._which, self._key = publish_order(signals)
+        self._signals = [(st if np.asarray(st).dtype.kind in "iu" else seconds_to_ns(st), v)
+                         for st, v in signals.values()]
+        seconds = {s: (st * 1e-9, v) for s, (st, v) in zip(signals, self._signals, strict=True)}
+        self._which, self._key = publish_order(seconds)  # pacing only: seconds are fine
 
     @property
     def messages(self) -> int:
@@ -116,7 +117,8 @@ class Player:
 
     def _records(self, stamp_offset_s: float) -> list[bytes]:
         """Serialised messages in publishing order, header stamps shifted by ``stamp_offset_s``."""
-        per_signal = [encode_float64_stamped(st + stamp_offset_s, v) for st, v in self._signals]
+        offset_ns = round(stamp_offset_s * 1e9)
+        per_signal = [encode_records(st + offset_ns, v) for st, v in self._signals]
         position = np.zeros(len(per_signal), dtype=np.int64)
         records = []
         for w in self._which.tolist():
@@ -229,7 +231,7 @@ def _play(args: argparse.Namespace) -> int:
     node = rclpy.create_node("bag_player")
     try:
         players = [Player(node, args.namespace or unit,
-                          {s: (sig.stamps, sig.values) for s, sig in data.signals.items() if s in chosen},
+                          {s: (sig.stamps_ns, sig.values) for s, sig in data.signals.items() if s in chosen},
                           args.reliable)
                    for unit, data in recording.units.items()]
         waiting = sorted({t for player in players for t in player.unmatched(args.subscribers)})

@@ -10,9 +10,9 @@ import pytest
 from rosbags.rosbag2 import Reader
 
 from ebm_wear_monitor.bagio import Series, read_bags, split_topic, write_unit_bag
-from ebm_wear_monitor.bagio.cdr import decode_float64_stamped
 from ebm_wear_monitor.fleet.synthetic import UnitScenario, write_unit
 from ebm_wear_monitor.monitor import MonitorCore
+from ebm_wear_monitor.monitor.wire import decode_records
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.report import write_replay_report
 from ebm_wear_monitor.replay.run import replay_bags
@@ -37,15 +37,15 @@ def sim_bag(tmp_path_factory, unit):
 
 
 def test_replay_equals_the_node_feeding_one_message_at_a_time(sim_bag, unit):
-    """The node decodes each arriving record with bagio.cdr and feeds the core in arrival order; the
-    replay feeds whole windows. Same core, same decoder: identical numbers, bit for bit."""
+    """The node decodes each arriving record with monitor.wire and feeds the core in arrival order; the
+    replay feeds whole storage chunks. Same core, same decoder: identical numbers, bit for bit."""
     result = replay_bags([sim_bag], unit)
     core = MonitorCore(unit)
     node_cycles = []
     with Reader(sim_bag) as reader:
         for i, (conn, _, raw) in enumerate(reader.messages()):
-            stamps, values = decode_float64_stamped([raw])
-            core.add(split_topic(conn.topic)[1], stamps, values)
+            got = decode_records([raw])
+            core.add(split_topic(conn.topic)[1], got.stamps_ns, got.values)
             if i % 7 == 0:  # the node's processing timer fires every few messages
                 node_cycles += core.process()
     node_cycles += core.process(final=True)
