@@ -1,29 +1,34 @@
-"""Benchmark of ``ebm-wear replay`` end to end against reading the same bag's raw messages, same run.
+"""Benchmark of ``ebm-wear replay`` end to end against rosbags' raw iteration of the same bag, same run.
 
 A bag of the three monitor topics at 1 kHz (brake applications of the digital
-twin, tiled to ``--seconds`` of data) is written in sqlite3 and in mcap storage.
-For each, on one core, in the same run:
+twin, tiled to ``--seconds`` of data) is written in sqlite3 and in mcap storage
+(by rosbags' writer). For each, on one core, in the same run, best of ``--repeat``:
 
-* raw read: ``rosbags`` ``Reader.messages()`` over every message, bytes only, no
-  decoding: the floor any replay must stand on (the baseline);
-* raw read, GC paused: the same with Python's cyclic garbage collector paused, as
-  the bulk reader does while records stream in (a stricter baseline, also printed);
-* general decode: the same plus ``typestore.deserialize_cdr`` per message (one
-  Python object per message, what a naive replay would do);
-* bulk read: ``bagio.read_bags`` (raw records decoded in bulk with numpy);
-* replay: ``replay.run.replay_bags`` = bulk read + the monitor core + per-application
-  history, i.e. ``ebm-wear replay`` without printing.
+* raw read (the baseline): ``rosbags`` ``Reader.messages()`` over every message,
+  bytes only, no decoding: what any replay built on rosbags stands on;
+* bulk read: ``bagio.BagReader`` alone (storage chunks decoded by ``monitor.wire``);
+* replay: ``replay.run.replay_bags`` = streaming read + the monitor core through
+  its Feeder + per-application history, i.e. ``ebm-wear replay`` without printing
+  (warm: the wear model's table is built once before timing).
 
-Printed: messages per second of each and the ratios replay / raw read (issue 6
-target: >= 0.25) and replay / raw read with GC paused. Best of ``--repeat`` runs each.
+Printed: messages per second of each and the ratio replay / raw read (issue 12
+target: >= 1.5 on both storages).
 
-Run: ``.venv/bin/python bench/bench_replay.py [--seconds 300] [--repeat 3]``
+``--memory`` instead measures peak RSS of ``ebm-wear replay`` (a fresh process
+each) on recordings of two lengths written block by block (``--memory-messages``,
+default 2 M and 20 M messages): issue 12 target < 400 MB for any length, the same
+at both lengths.
+
+Run: ``.venv/bin/python bench/bench_replay.py [--seconds 400] [--repeat 3]``
+     ``.venv/bin/python bench/bench_replay.py --memory [--storage sqlite3]``
 """
 
 from __future__ import annotations
 
 import argparse
-import gc
+import shutil
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -31,22 +36,26 @@ from pathlib import Path
 import numpy as np
 from rosbags.rosbag2 import Reader
 
-from ebm_wear_monitor.bagio import FLOAT64_STAMPED, read_bags, typestore, write_unit_bag
+from ebm_wear_monitor.bagio import BagReader, BagWriter, Series, write_unit_bag
+from ebm_wear_monitor.monitor import SIGNALS
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.run import replay_bags
 from ebm_wear_monitor.twin import simulate_unit
 
-SIGNALS = ("angle", "velocity", "axial_force")
+T0_NS = 1_700_000_000_000_000_000
 
 
-def make_signals(seconds: float, unit) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Twin brake applications at 1 kHz, tiled (angle continued) to ``seconds`` of data."""
+def twin_period(unit) -> dict[str, np.ndarray]:
+    """One stretch of 16 twin brake applications at 1 kHz (angle, velocity, force)."""
     sim = simulate_unit(unit, 16, rate_hz=1000.0, hold_s=(0.5, 1.0), rest_s=0.5)
-    reps = int(np.ceil(seconds / (len(sim.t) * 1e-3)))
-    n = len(sim.t) * reps
-    t = 1.7e9 + np.arange(n) * 1e-3
-    signals = {k: np.tile(getattr(sim, k), reps) for k in SIGNALS}
-    return t[: int(seconds * 1000)], {k: v[: int(seconds * 1000)] for k, v in signals.items()}
+    return {k: getattr(sim, k) for k in SIGNALS}
+
+
+def tiled(period: dict[str, np.ndarray], start: int, n: int) -> dict[str, np.ndarray]:
+    """Samples ``start .. start + n`` of the period repeated for ever (angle continued per period)."""
+    size = len(period["angle"])
+    idx = np.arange(start, start + n)
+    return {k: v[idx % size] for k, v in period.items()}
 
 
 def best(fn, repeat: int) -> tuple[float, object]:
@@ -63,45 +72,92 @@ def raw_read(bag: Path) -> int:
         return sum(1 for _ in reader.messages())
 
 
-def raw_read_gc_paused(bag: Path) -> int:
-    gc.disable()
-    try:
-        return raw_read(bag)
-    finally:
-        gc.enable()
+def bulk_read(bag: Path) -> int:
+    with BagReader([bag], signals=SIGNALS) as reader:
+        return sum(s.size for batches in reader.batches() for b in batches.values()
+                   for s, _ in b.signals.values())
 
 
-def general_decode(bag: Path) -> int:
-    store = typestore()
-    with Reader(bag) as reader:
-        return sum(1 for _, _, raw in reader.messages() if store.deserialize_cdr(raw, FLOAT64_STAMPED))
-
-
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seconds", type=float, default=300.0, help="seconds of 1 kHz data (3 topics)")
-    parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
+def ratios(args) -> None:
     unit = load_unit()
-    t, signals = make_signals(args.seconds, unit)
-    print(f"bag: {len(t)} samples x {len(signals)} topics = {len(t) * len(signals)} messages, 1 kHz")
+    n = int(args.seconds * 1000)
+    signals = tiled(twin_period(unit), 0, n)
+    t = T0_NS + np.arange(n, dtype=np.int64) * 1_000_000
+    print(f"bag: {n} samples x {len(signals)} topics = {n * len(signals)} messages, 1 kHz")
     with tempfile.TemporaryDirectory() as tmp:
         for storage in ("sqlite3", "mcap"):
             bag = Path(tmp) / storage
             write_unit_bag(bag, t, {"/embu": signals}, storage=storage)
-            n_raw_s, n = best(lambda b=bag: raw_read(b), args.repeat)
-            nogc_s, _ = best(lambda b=bag: raw_read_gc_paused(b), args.repeat)
-            gen_s, _ = best(lambda b=bag: general_decode(b), 1)
-            bulk_s, rec = best(lambda b=bag: read_bags([b]), args.repeat)
-            replay_s, res = best(lambda b=bag: replay_bags([b], unit), args.repeat)
-            assert rec.messages == n
-            raw, nogc, gen, bulk, rep = n / n_raw_s, n / nogc_s, n / gen_s, n / bulk_s, n / replay_s
-            cycles = res.units[0].summary["duty_cycles"]
-            print(f"{storage}: raw read {raw / 1e3:.0f} k msg/s (GC paused {nogc / 1e3:.0f} k) | general "
-                  f"decode {gen / 1e3:.0f} k ({gen / raw:.2f}) | bulk read {bulk / 1e3:.0f} k "
-                  f"({bulk / raw:.2f}) | replay {rep / 1e3:.0f} k msg/s, {cycles} applications\n"
-                  f"    replay / raw read = {rep / raw:.2f} (target >= 0.25); replay / raw read with GC "
-                  f"paused = {rep / nogc:.2f}")
+            replay_bags([bag], unit)  # warm: wear-model table, imports
+            raw_s, count = best(lambda b=bag: raw_read(b), args.repeat)
+            bulk_s, got = best(lambda b=bag: bulk_read(b), args.repeat)
+            rep_s, res = best(lambda b=bag: replay_bags([b], unit), args.repeat)
+            assert got == count, (got, count)
+            raw, bulk, rep = count / raw_s, count / bulk_s, count / rep_s
+            print(f"{storage}: raw read (rosbags) {raw / 1e3:.0f} k msg/s | bulk read {bulk / 1e3:.0f} k "
+                  f"msg/s ({bulk / raw:.2f}x) | replay {rep / 1e3:.0f} k msg/s, "
+                  f"{res.units[0].summary['duty_cycles']} applications\n"
+                  f"    replay / raw read = {rep / raw:.2f} (target >= 1.5)")
+
+
+def write_long(path: Path, messages: int, storage: str, unit) -> int:
+    """A recording of ``messages`` messages (3 topics at 1 kHz), written block by block."""
+    period = twin_period(unit)
+    n = messages // 3
+    topics = [("/embu", s) for s in SIGNALS]
+    writer = BagWriter(path, topics, storage=storage)
+    block = 600_000
+    for start in range(0, n, block):
+        m = min(block, n - start)
+        t = T0_NS + (start + np.arange(m, dtype=np.int64)) * 1_000_000
+        writer.write({("/embu", s): Series(t, v) for s, v in tiled(period, start, m).items()})
+    return writer.close()
+
+
+def peak_rss_mb(bag: Path) -> tuple[float, float]:
+    """(peak RSS [MB], wall time [s]) of ``ebm-wear replay BAG --no-progress`` in a fresh process."""
+    script = ("import resource, sys; from ebm_wear_monitor.cli.main import main; rc = main(sys.argv[1:]); "
+              "print('PEAK', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr); "
+              "sys.exit(rc)")
+    t0 = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", script, "replay", str(bag), "--no-progress"],
+                          capture_output=True, text=True, check=True)
+    wall = time.perf_counter() - t0
+    peak = next(line for line in done.stderr.splitlines() if line.startswith("PEAK"))
+    return int(peak.split()[1]) / 1024.0, wall
+
+
+def memory(args) -> None:
+    unit = load_unit()
+    with tempfile.TemporaryDirectory(dir=args.tmp) as tmp:
+        for storage in args.storage:
+            peaks = []
+            for messages in args.memory_messages:
+                bag = Path(tmp) / f"{storage}_{messages}"
+                t0 = time.perf_counter()
+                written = write_long(bag, messages, storage, unit)
+                size = sum(f.stat().st_size for f in bag.iterdir()) / 1e9
+                rss, wall = peak_rss_mb(bag)
+                peaks.append(rss)
+                took = time.perf_counter() - t0
+                print(f"{storage}: {written} messages ({size:.2f} GB, written in {took:.0f} s):"
+                      f" replay peak RSS {rss:.0f} MB, {wall:.1f} s ({written / wall / 1e6:.2f} M msg/s)")
+                shutil.rmtree(bag)
+            print(f"{storage}: peak RSS {peaks[-1]:.0f} MB at {args.memory_messages[-1]} messages vs "
+                  f"{peaks[0]:.0f} MB at {args.memory_messages[0]}: ratio {peaks[-1] / peaks[0]:.2f} "
+                  "(target: < 400 MB, not growing with length)")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=400.0, help="seconds of 1 kHz data (3 topics)")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--memory", action="store_true", help="peak RSS at two lengths instead of speed")
+    parser.add_argument("--memory-messages", type=int, nargs=2, default=[2_000_000, 20_000_000])
+    parser.add_argument("--storage", nargs="+", default=["sqlite3", "mcap"], choices=["sqlite3", "mcap"])
+    parser.add_argument("--tmp", default=None, help="directory for the long recordings (default: system tmp)")
+    args = parser.parse_args()
+    memory(args) if args.memory else ratios(args)
 
 
 if __name__ == "__main__":

@@ -37,7 +37,7 @@ Public API (all lengths/times SI; signals named as in interface.md section 4)::
     typestore() -> rosbags Typestore with ebm_wear_msgs/msg/* registered from msg_defs/msg/*.msg
 """
 
-from ebm_wear_monitor.bagio.reader import BagReader, Recording, Signal, UnitData, read_bags
+from ebm_wear_monitor.bagio.reader import BagReader, Recording, Signal, UnitData, bag_message_count, read_bags
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE, read_ground_truth
 from ebm_wear_monitor.bagio.types import message_types, msg_dir, typestore
 from ebm_wear_monitor.bagio.writer import STORAGES, BagWriter, Series, write_unit_bag
@@ -54,6 +54,7 @@ __all__ = [
     "Series",
     "Signal",
     "UnitData",
+    "bag_message_count",
     "message_types",
     "msg_dir",
     "read_bags",

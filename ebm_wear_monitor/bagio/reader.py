@@ -237,8 +237,9 @@ class BagReader:
             if read and not decoded:
                 raise InputError(f"{bag}: corrupt: none of its {read} input records decodes")
         if self.strict and self.problems:
-            raise InputError(f"{self.problems[0]}" + (f" (and {len(self.problems) - 1} more problems)"
-                                                      if len(self.problems) > 1 else ""))
+            n = sum(k for b in lost.values() for per in b.faults.values() for k in per.values())
+            more = f" (and {len(self.problems) - 1} more problems)" if len(self.problems) > 1 else ""
+            raise InputError(f"damaged storage, {n} messages lost: {self.problems[0]}{more}")
         if lost:
             yield lost
 
@@ -384,6 +385,13 @@ def _fallback(decoded: Decoded, rows: np.ndarray) -> None:
         decoded.ok[i] = True
 
 
+def bag_message_count(paths: Iterable[str | os.PathLike]) -> int:
+    """Progress units of ``paths`` from the storages' own indexes (no counting pass): the total to give
+    a progress bar fed by :meth:`BagReader.batches` or :func:`read_bags`."""
+    with BagReader(paths) as reader:
+        return reader.total
+
+
 # ---------------------------------------------------------------------------------------------- whole
 @dataclass(frozen=True)
 class Signal:
@@ -437,6 +445,9 @@ def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], obje
     """
     with BagReader(paths, failed=failed, **options) as reader:  # type: ignore[arg-type]
         parts: dict[str, dict[str, list[tuple[np.ndarray, np.ndarray]]]] = {u: {} for u in reader.units}
+        for src in reader.sources:  # every input topic of the bags, even one without messages
+            for unit, signal in src.chosen.values():
+                parts[unit].setdefault(signal, [(np.empty(0, np.int64), np.empty(0))])
         faults: dict[str, dict[str, dict[str, int]]] = {u: {} for u in reader.units}
         for batches in reader.batches(progress):
             for unit, batch in batches.items():

@@ -18,7 +18,9 @@ final snapshot and the persisted state must be equal, bit for bit.
 from __future__ import annotations
 
 import json
+import sys
 from dataclasses import asdict
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,37 +31,8 @@ from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore
 from ebm_wear_monitor.monitor.wire import decode_records, encode_records
 from ebm_wear_monitor.params import load_unit
 
-LEAD, CLEARANCE, STIFFNESS = 5.0e-3, 0.2e-3, 4.16e7  # reference EMBU (params/reference/embu_000.yaml)
-RATES = {"angle": 2000.0, "velocity": 2000.0, "axial_force": 1000.0}  # Hz, interface.md section 2 example
-PERIOD = 1.6  # s per brake application (closed form below)
-
-
-def closed_form(t: np.ndarray) -> dict[str, np.ndarray]:
-    """Brake applications of 000 Fig. 2 as exact functions of time (force from 004 eq. 6)."""
-    theta_p = 2 * np.pi * (CLEARANCE + 20e3 / STIFFNESS) / LEAD
-    knots_t = np.array([0.0, 0.4, 0.5, 0.7, 1.0, 1.2, PERIOD])
-    knots_theta = np.array([0.0, 0.0, 2 * np.pi * CLEARANCE / LEAD, theta_p, theta_p, 0.0, 0.0])
-    phase = t % PERIOD
-    theta = np.interp(phase, knots_t, knots_theta)
-    seg = np.clip(np.searchsorted(knots_t, phase, side="right") - 1, 0, len(knots_t) - 2)
-    omega = (np.diff(knots_theta) / np.diff(knots_t))[seg]
-    force = np.maximum(0.0, STIFFNESS * (LEAD * theta / (2 * np.pi) - CLEARANCE))
-    return {"angle": theta, "velocity": omega, "axial_force": force}
-
-
-def recording(cycles: int, seed: int) -> dict[str, dict[str, np.ndarray]]:
-    """Per topic: header stamps [ns], values, log times [ns] (lagging by 0-1.6 ms), own phase and jitter."""
-    rng = np.random.default_rng(seed)
-    out = {}
-    for signal, rate in RATES.items():
-        n = int(cycles * PERIOD * rate)
-        t = np.arange(n) / rate + rng.uniform(0, 1e-3) + rng.normal(0, 20e-6, n)
-        t = np.sort(t)
-        stamps = 1_700_000_000_000_000_000 + np.rint(t * 1e9).astype(np.int64)
-        log = np.maximum.accumulate(stamps + rng.integers(0, 1_600_000, n))  # a topic arrives in order
-        keep = rng.random(n) > 0.002  # a few dropped samples
-        out[signal] = {"stamps": stamps[keep], "values": closed_form(t)[signal][keep], "log": log[keep]}
-    return out
+sys.path.insert(0, str(Path(__file__).parent))
+from multirate_synth import RATES, recording
 
 
 def encoded(rec: dict) -> dict[str, tuple[list[bytes], np.ndarray]]:
