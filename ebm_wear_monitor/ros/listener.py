@@ -25,8 +25,8 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.signals import SignalHandlerOptions
 
-from ebm_wear_monitor.bagio.topics import check_namespace
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.monitor.wire import check_namespace
 from ebm_wear_monitor.ros.qos import event_qos, latched_qos
 
 PROG = "ebm-wear-listener"
