@@ -118,11 +118,11 @@ class Plant:
 
     def cell_output(self, F: np.ndarray) -> np.ndarray:
         """Load-cell output before its lag [N] for true clamp force ``F`` (identity by default)."""
-        return F.copy() if self.phys.cell is None else self.phys.cell(F)
+        return np.array(F, dtype=float) if self.phys.cell is None else self.phys.cell(F)
 
     def step(self, E: np.ndarray) -> None:
         """Advance every application by ``dt`` under armature voltage ``E`` [V] (PWM average)."""
-        a, dt, ph = self.act, self.dt, self.phys
+        a, ph = self.act, self.phys
         w, F = self.w, self.F
         i = (self._L_dt * self.i + E - self._ke * w) * self._inv_i
         load = a.G * F
@@ -140,16 +140,17 @@ class Plant:
         if ph.backlash > 0.0:
             t_d = self._backlash_drive(t_d, i)
         stuck = w == 0.0
-        direction = np.sign(np.where(stuck, t_d, w))
-        w_new = (self._J_dt * w + t_d - c_k * direction) * self._inv_w
+        slide = np.where(stuck, t_d, w)  # the direction friction opposes
+        w_new = (self._J_dt * w + t_d - np.copysign(c_k, slide)) * self._inv_w
         w_new[np.where(stuck, np.abs(t_d) <= c_s, w_new * w <= 0.0)] = 0.0
         self.w = w_new
         self.i = i
-        self.theta = self.theta + dt * w_new
+        self.theta = self.theta + self.dt * w_new
         self.q = self._screw_side(self.theta) if ph.backlash > 0.0 else self.theta
         self.F = self.clamp_force(self.q)
-        self.f_cell += self._cell_a * (self.cell_output(self.F) - self.f_cell)
-        self.t += dt
+        cell = self.F if ph.cell is None else ph.cell(self.F)
+        self.f_cell += self._cell_a * (cell - self.f_cell)
+        self.t += self.dt
 
     # --- backlash (an out-of-catalog effect): a play operator between motor and screw ---------
     def _screw_side(self, theta: np.ndarray) -> np.ndarray:
