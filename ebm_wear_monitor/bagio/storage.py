@@ -123,15 +123,20 @@ class SqliteStorage(Storage):
         super().__init__()
         self.path = path
         try:
-            self.db = sqlite3.connect(f"file:{path}?mode=ro", uri=True, check_same_thread=False)
+            # immutable: no locking or change checks per query (as rosbags opens bags; a bag being
+            # recorded is not replayed)
+            self.db = sqlite3.connect(f"file:{path}?mode=ro&immutable=1", uri=True, check_same_thread=False)
             self.db.text_factory = bytes
             columns = {r[1] for r in self.db.execute("PRAGMA table_info(topics)")}
             digest = "type_description_hash" if b"type_description_hash" in columns else "''"
             rows = self.db.execute(f"SELECT id, name, type, serialization_format, {digest} FROM topics "
                                    "ORDER BY id").fetchall()
-            lo, hi = self.db.execute("SELECT min(id), max(id) FROM messages").fetchone()
-            first, last = (self.db.execute("SELECT min(timestamp), max(timestamp) FROM messages").fetchone()
-                           if lo is not None else (0, 0))
+            # first and last row (one B-tree descent each, no scan, no index needed); their log times
+            # stand for the file's time span (rows are stored in arrival order)
+            lo, hi, first, last = self.db.execute(
+                "SELECT (SELECT min(id) FROM messages), (SELECT max(id) FROM messages), "
+                "(SELECT timestamp FROM messages ORDER BY id LIMIT 1), "
+                "(SELECT timestamp FROM messages ORDER BY id DESC LIMIT 1)").fetchone()
         except sqlite3.Error as exc:
             raise InputError(f"{path}: unreadable bag: sqlite3 storage: {exc}") from exc
         self.connections = [Connection(int(i), n.decode(), t.decode(), s.decode(), d.decode() if d else "")

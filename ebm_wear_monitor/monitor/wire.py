@@ -153,25 +153,23 @@ class Decoded:
         return int(self.ok.size)
 
 
-def _field(rows: np.ndarray, at: int, fmt: str) -> np.ndarray:
-    """Column ``fmt`` (e.g. '<i4') starting at byte ``at`` of every row of a (n, size) uint8 matrix."""
-    width = np.dtype(fmt).itemsize
-    return np.ascontiguousarray(rows[:, at:at + width]).view(fmt).ravel()
+def _layout(size: int) -> np.dtype:
+    """Structured view of a record of ``size`` bytes: header bytes, sec, nanosec, string length, data."""
+    return np.dtype({"names": ["b0", "b1", "b2", "b3", "sec", "nanosec", "strlen", "data"],
+                     "formats": ["u1", "u1", "u1", "u1", "<i4", "<u4", "<u4", "<f8"],
+                     "offsets": [0, 1, 2, 3, 4, 8, 12, size - 8], "itemsize": size})
 
 
 def decode_uniform(buf: bytes | memoryview | np.ndarray, size: int) -> Decoded:
     """Decode records of ``size`` bytes each, back to back in ``buf`` (either byte order, any frame_id)."""
-    u8 = np.frombuffer(buf, dtype=np.uint8) if not isinstance(buf, np.ndarray) else buf
+    u8 = np.frombuffer(buf, dtype=np.uint8) if not isinstance(buf, np.ndarray) else buf.reshape(-1)
     n = u8.size // size if size > 0 else 0
     if size < EMPTY_FRAME_RECORD or n * size != u8.size:
         return Decoded(np.full(n, BAD_STAMP_NS, np.int64), np.full(n, np.nan), np.zeros(n, bool))
-    rows = u8.reshape(n, size)
-    little = rows[:, 1] == 1
-    ok = (rows[:, 0] == 0) & (little | (rows[:, 1] == 0)) & (rows[:, 2] == 0) & (rows[:, 3] == 0)
-    sec = _field(rows, 4, "<i4")
-    nanosec = _field(rows, 8, "<u4")
-    strlen = _field(rows, 12, "<u4")
-    data = _field(rows, size - 8, "<f8")
+    rec = u8.view(_layout(size))  # no copy: each field a strided view
+    little = rec["b1"] == 1
+    ok = (rec["b0"] == 0) & (little | (rec["b1"] == 0)) & (rec["b2"] == 0) & (rec["b3"] == 0)
+    sec, nanosec, strlen, data = rec["sec"], rec["nanosec"], rec["strlen"], rec["data"]
     if not little.all():  # big-endian records: the same fields, bytes swapped
         big = ~little
         sec = np.where(big, sec.byteswap(), sec)
