@@ -103,6 +103,7 @@ class BagWriter:
 
     def write(self, block: Mapping[tuple[str, str], Series]) -> None:
         """Write one block of samples, all its topics merged by receive time (stable)."""
+        block = {k: _series(v, None, f"{k[0]} {k[1]}") for k, v in block.items()}
         keys = list(block)
         received = np.concatenate([block[k].received for k in keys] or [np.empty(0, np.int64)])
         which = np.concatenate([np.full(len(block[k].values), i) for i, k in enumerate(keys)]

@@ -276,3 +276,28 @@ def test_malformed_ground_truth_is_a_one_line_input_error(tmp_path, text):
     with pytest.raises(InputError, match=r"ground_truth\.json") as err:
         read_ground_truth(tmp_path / "bag")
     assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("storage", ["sqlite3", "mcap"])
+def test_records_the_bulk_path_does_not_recognise_go_through_the_general_deserializers(tmp_path, storage):
+    """A record with non-zero encapsulation options (a valid CDR header the bulk layout check does not
+    take) is decoded by rosbags in the reader and by rclpy in the node, to the same stamp and value;
+    bulk-recognised records around it (any frame_id length) are untouched."""
+    from ebm_wear_monitor.monitor.wire import Batch
+    from ebm_wear_monitor.ros.inputs import InputBuffer
+
+    stamps = 1_700_000_000_000_000_000 + np.arange(30, dtype=np.int64) * 1_000_000
+    values = np.arange(30) * 0.5
+    raws = [encode_records(stamps[i:i + 1], values[i:i + 1], "f" * (i % 9))[0] for i in range(30)]
+    odd = {3, 17, 18}
+    raws = [b"\x00\x01\x00\x04" + r[4:] if i in odd else r for i, r in enumerate(raws)]
+    assert decode_records(raws).ok.tolist() == [i not in odd for i in range(30)]
+    _raw_bag(tmp_path / "bag", {"/embu/screw/angle": (FLOAT64_STAMPED, raws)}, storage)
+    sig = read_bags([tmp_path / "bag"]).units["/embu"].signals["angle"]
+    assert np.array_equal(sig.stamps_ns, stamps) and np.array_equal(sig.values, values)
+    buffer, batch = InputBuffer("angle"), Batch()
+    buffer.pending += raws
+    buffer.drain(batch)
+    got_stamps, got_values = batch.signals["angle"]
+    assert np.array_equal(got_stamps, stamps) and np.array_equal(got_values, values)
+    assert batch.faults == {}

@@ -151,7 +151,8 @@ def test_incremental_and_resumable(tmp_path, fleet_dir, client, params):
     assert _result(out, unit) == before
     # a new day's recording: only the new bag is read, the core continues from the saved state
     day = read_bags([fleet_dir / unit / "2026-11-21.bag"]).units["/embu"].signals
-    write_unit_bag(extra, None, {"/embu": {k: Series(s.stamps + 86400.0, s.values) for k, s in day.items()}})
+    next_day = {k: Series(s.stamps_ns + 86_400 * 10**9, s.values) for k, s in day.items()}
+    write_unit_bag(extra, None, {"/embu": next_day})
     try:
         resumed = run_fleet(client, fleet_dir, out, params)
         assert (resumed.processed, resumed.resumed) == ([unit], [unit])

@@ -166,3 +166,46 @@ def test_one_glitch_costs_no_application(unit, kind):
         assert len(events) == 5
         got = feeder.core.snapshot().input_faults
         assert got.get("stamp_glitch" if kind == "future" else "stamp_backwards") == 1
+
+
+def test_the_glitch_of_the_issue_in_bags_worn(unit, tmp_path):
+    """Issue 12's case: one angle sample of bags/worn stamped 1000 s in the future (replay used to count
+    5,653 samples late and find 5 of 16 applications). Replay from the damaged bag and the node's order
+    of the same records (per topic, 40 ms ticks of arrival time) give the clean result's applications."""
+    import shutil
+    import sqlite3
+
+    from rosbags.rosbag2 import Reader
+
+    from ebm_wear_monitor.bagio import split_topic
+    from ebm_wear_monitor.params import load_unit as load
+    from ebm_wear_monitor.replay.run import replay_bags
+
+    repo = Path(__file__).resolve().parents[2]
+    params = load(repo / "bags" / "accelerated_unit.yaml")
+    bag = tmp_path / "worn"
+    shutil.copytree(repo / "bags" / "worn", bag)
+    with sqlite3.connect(bag / "worn.db3") as db:
+        (angle,) = db.execute("SELECT id FROM topics WHERE name LIKE '%/screw/angle'").fetchone()
+        rows = db.execute("SELECT id, data FROM messages WHERE topic_id = ? ORDER BY id", (angle,)).fetchall()
+        row_id, data = rows[int(0.3 * len(rows))]
+        sec = int.from_bytes(data[4:8], "little", signed=True) + 1000
+        glitched = data[:4] + sec.to_bytes(4, "little") + data[8:]
+        db.execute("UPDATE messages SET data = ? WHERE id = ?", (glitched, row_id))
+    clean = replay_bags([repo / "bags" / "worn"], params).units[0]
+    (replayed,) = replay_bags([bag], params).units
+    assert replayed.summary["duty_cycles"] == clean.summary["duty_cycles"] == 16
+    assert replayed.summary["input_faults"] == {**clean.summary["input_faults"], "stamp_glitch": 1}
+    records: dict[str, tuple[list[bytes], list[int]]] = {}
+    with Reader(bag) as reader:  # an independent reader gives the records in arrival (log time) order
+        for conn, log, raw in reader.messages():
+            raws, logs = records.setdefault(split_topic(conn.topic)[1], ([], []))
+            raws.append(bytes(raw))
+            logs.append(log)
+    records = {s: (r, np.array(t, np.int64)) for s, (r, t) in records.items()}
+    events, feeder = feed_as_node(params, records, 40_000_000, np.random.default_rng(2))
+    node = feeder.core.to_json_dict()
+    assert node["duty_cycles"] == 16
+    for key in ("wear", "clearance", "remaining_life", "duty_cycles"):
+        assert node[key] == {k: v for k, v in replayed.summary.items() if k != "unit"}[key], key
+    assert [e.cycle.index for e in events] == replayed.applications["index"].tolist()

@@ -82,7 +82,7 @@ def test_bad_input_is_counted_never_crashes_and_never_corrupts_the_wear(procs, m
     bag, _ = make_bag(n_cycles=5, rate_hz=500.0, mutate=corrupt)
     core = MonitorCore(load_unit(), MonitorConfig(), None)
     for name, s in read_bags([bag]).units["/embu"].signals.items():
-        core.add(name, s.stamps, s.values)
+        core.add(name, s.stamps_ns, s.values)
     core.process()
     offline = core.snapshot()
     for kind in ("non_finite", "negative", "absurd", "duplicate", "stamp_backwards", "gap"):

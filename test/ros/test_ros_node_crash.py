@@ -37,7 +37,7 @@ def wear_after_each_cycle(bag) -> list[float]:
     n = len(sig["angle"].stamps)
     for i in range(0, n, 50):
         for name, s in sig.items():
-            core.add(name, s.stamps[i:i + 50], s.values[i:i + 50])
+            core.add(name, s.stamps_ns[i:i + 50], s.values[i:i + 50])
         done = core.process()
         assert len(done) <= 1
         wear += [core.snapshot().wear_screw_m] * len(done)

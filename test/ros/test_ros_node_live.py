@@ -30,7 +30,7 @@ def offline(bag):
     core = MonitorCore(load_unit(), MonitorConfig(), None)
     data = read_bags([bag]).units["/embu"]
     for signal_name, sig in data.signals.items():
-        core.add(signal_name, sig.stamps, sig.values)
+        core.add(signal_name, sig.stamps_ns, sig.values)
     cycles = core.process(final=True)
     return cycles, core.snapshot()
 
