@@ -119,15 +119,19 @@ def write_long(path: Path, messages: int, storage: str, unit) -> int:
 
 
 def peak_rss_mb(bag: Path) -> tuple[float, float]:
-    """(peak RSS [MB], wall time [s]) of ``ebm-wear replay BAG --no-progress`` in a fresh process."""
-    script = ("import resource, sys; from ebm_wear_monitor.cli.main import main; rc = main(sys.argv[1:]); "
-              "print('PEAK', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, file=sys.stderr); "
+    """(peak RSS [MB], wall time [s]) of ``ebm-wear replay BAG --no-progress`` in a fresh process.
+
+    The peak is the child's own ``VmHWM`` (high-water mark of its address space): ``ru_maxrss`` would
+    carry this (large) benchmark process's mark over into the child across fork and exec.
+    """
+    script = ("import sys; from ebm_wear_monitor.cli.main import main; rc = main(sys.argv[1:]); "
+              "print(next(l for l in open('/proc/self/status') if l.startswith('VmHWM')), file=sys.stderr); "
               "sys.exit(rc)")
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", script, "replay", str(bag), "--no-progress"],
                           capture_output=True, text=True, check=True)
     wall = time.perf_counter() - t0
-    peak = next(line for line in done.stderr.splitlines() if line.startswith("PEAK"))
+    peak = next(line for line in done.stderr.splitlines() if line.startswith("VmHWM"))
     return int(peak.split()[1]) / 1024.0, wall
 
 
