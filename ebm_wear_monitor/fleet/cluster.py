@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import logging
 import os
+import signal
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -72,6 +74,22 @@ def default_workers() -> int:
 
 
 @contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Worker processes started meanwhile ignore SIGINT (an ignored signal stays ignored across
+    exec, and neither Python nor asyncio then installs a handler). Ctrl-C reaches the whole
+    foreground process group; only this process should act on it (cancel, close the cluster,
+    exit 130), not every worker with a KeyboardInterrupt traceback."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
 def dask_client(scheduler: str | None = None, n_workers: int | None = None) -> Iterator:
     """A ``distributed.Client``: on ``scheduler`` (:func:`scheduler_address`) or on a new LocalCluster."""
     from dask.distributed import Client, LocalCluster
@@ -85,7 +103,9 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None) -> I
         with client:
             yield client
         return
-    cluster = LocalCluster(n_workers=n_workers or default_workers(), threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=LOOPBACK_ANY_PORT, silence_logs=logging.ERROR)
+    with _sigint_ignored():
+        cluster = LocalCluster(n_workers=n_workers or default_workers(), threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=LOOPBACK_ANY_PORT,
+                               silence_logs=logging.ERROR)
     with cluster, Client(cluster) as client:
         yield client

@@ -101,8 +101,7 @@ def overview_figure(rows: list[dict]) -> dict | None:
                          "name": sel[0]["status_words"], "marker": {"color": color, "size": 9},
                          "hovertemplate": "%{text}<br>%{x:.0f} % of limit<br>p05 %{y:,.0f}<extra></extra>"})
     layout = {"xaxis": {"title": {"text": "axial clearance [% of its limit]"}},
-              "yaxis": {"title": {"text": "remaining brake applications, p05"},
-                        "type": figures.axis_type([r["p05"] for r in with_life])},
+              "yaxis": figures.value_axis("remaining brake applications, p05", [r["p05"] for r in with_life]),
               "margin": {"l": 80, "r": 20, "t": 20, "b": 50}, "template": "plotly_white",
               "legend": {"orientation": "h", "y": -0.25}, "hovermode": "closest"}
     return {"data": data, "layout": layout}

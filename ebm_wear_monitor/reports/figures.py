@@ -26,6 +26,13 @@ def axis_type(*arrays: object) -> str:
     return "log" if values.size and values.max() >= 10.0 * values.min() else "linear"
 
 
+def value_axis(title: str, *arrays: object) -> dict:
+    """A y axis for ``arrays``: linear, or logarithmic with one labelled tick per decade (no crowding)."""
+    kind = axis_type(*arrays)
+    axis = {"title": {"text": title}, "zeroline": False, "type": kind}
+    return axis | {"dtick": 1} if kind == "log" else axis
+
+
 def _layout(xtitle: str, ytitle: str, **extra: object) -> dict:
     return {"xaxis": {"title": {"text": xtitle}, "zeroline": False},
             "yaxis": {"title": {"text": ytitle}, "zeroline": False},
@@ -127,7 +134,7 @@ def rul_figure(app: pd.DataFrame, truth: dict | None, alpha: float) -> dict | No
                   "name": "true (simulator)", "type": "scatter"}]
         arrays.append(true_rul)
     layout = _layout("brake applications since the state began", "remaining brake applications")
-    layout["yaxis"]["type"] = axis_type(*arrays)
+    layout["yaxis"] = value_axis("remaining brake applications", *arrays)
     return _figure(data, layout)
 
 
@@ -154,5 +161,5 @@ def faults_figure(by_signal: dict[str, dict[str, int]]) -> dict | None:
             for s in sorted(by_signal)]
     layout = _layout("fault kind", "samples or events", barmode="group")
     layout["hovermode"] = "closest"
-    layout["yaxis"]["type"] = axis_type(*[d["y"] for d in data])
+    layout["yaxis"] = value_axis("samples or events", *[d["y"] for d in data])
     return _figure(data, layout)

@@ -62,3 +62,29 @@ def test_bad_input_exits_2(tmp_path, capsys, monkeypatch):
         assert err.startswith("ebm-wear fleet: error:"), err
         assert "\n" not in err
     assert not out.exists() and not (tmp_path / "new").exists()
+
+
+@pytest.mark.timeout(180)
+def test_ctrl_c_stops_the_fleet_with_130_and_one_line(tmp_path):
+    """Ctrl-C signals the whole foreground process group, Dask's worker processes included: only the
+    fleet command answers (exit 130, one line), no worker prints a KeyboardInterrupt traceback."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    fleet = tmp_path / "fleet"
+    ebm_wear = str(Path(sys.executable).parent / "ebm-wear")
+    proc = subprocess.Popen([ebm_wear, "fleet", str(fleet), "--generate", "8", "--workers", "2", "--out",
+                             str(tmp_path / "out"), "--no-progress"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while not (fleet / "params.yaml").exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.1)  # the cluster is up once the generation writes its unit file
+    assert proc.poll() is None, proc.communicate()
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err == "ebm-wear fleet: interrupted\n"
