@@ -11,6 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 EBM=.venv/bin/ebm-wear
 rm -rf bags/healthy bags/worn bags/fleet
+# the tools create only the last component of an output path (issue 13): the fleet layout first
+mkdir -p bags/fleet/train1/car1/embu1 bags/fleet/train1/car1/embu2 bags/fleet/train1/car2/embu1
 "$EBM" simulate --params embu_000 --cycles 8 --demand 10000 15000 20000 --hold 0.5 --rest 0.3 \
     --seed 1 --namespace /embu --storage mcap --out bags/healthy
 # the worn unit runs on an accelerated-life rig: its unit file is the reference EMBU with k_slip x 1e5,
