@@ -52,6 +52,7 @@ def clearance_figure(app: pd.DataFrame, remaining_life: dict) -> dict | None:
         return None
     k = app["index"].to_numpy(float)
     est, std = app["clearance_estimate_m"].to_numpy(float) * 1e3, app["clearance_std_m"].to_numpy(float) * 1e3
+    observed = app["clearance_observed_m"].to_numpy(float) * 1e3
     data = [
         {"x": np.concatenate([k, k[::-1]]), "y": np.concatenate([est + 2 * std, (est - 2 * std)[::-1]]),
          "fill": "toself", "mode": "lines", "fillcolor": "rgba(21,101,192,0.18)", "line": {"width": 0},
@@ -76,17 +77,22 @@ def clearance_figure(app: pd.DataFrame, remaining_life: dict) -> dict | None:
         ]
         span = max(k[-1] - k[0], 1.0)
         x_max = k0 + min(1.05 * p[2], PROJECTION_SPAN * span)
-    observed = app["clearance_observed_m"].to_numpy(float) * 1e3
     data.append({"x": k, "y": observed, "mode": "markers", "name": "observed in the application",
                  "marker": {"color": ORANGE, "size": 7, "line": {"color": "white", "width": 1}},
                  "type": "scatter"})
     layout = _layout("brake applications since the state began", "axial clearance x_ag [mm]")
-    if known(limit):
-        layout["shapes"] = [{"type": "line", "xref": "paper", "x0": 0, "x1": 1, "y0": limit * 1e3,
-                             "y1": limit * 1e3, "line": {"color": RED, "width": 1.5}}]
-        layout["annotations"] = [{"xref": "paper", "x": 0.01, "y": limit * 1e3, "yanchor": "bottom",
-                                  "text": f"limit {mm(limit)}", "showarrow": False,
-                                  "font": {"color": RED}}]
+    shown = np.concatenate([est + 2 * std, est - 2 * std, observed])
+    shown = shown[np.isfinite(shown)]
+    if known(limit) and shown.size:
+        top, span = shown.max(), max(np.ptp(shown), 1e-3)  # [mm]
+        label = {"showarrow": False, "font": {"color": RED}, "xref": "paper", "x": 0.01, "yanchor": "bottom"}
+        if x_max is not None or limit * 1e3 <= top + 2.0 * span:
+            layout["shapes"] = [{"type": "line", "xref": "paper", "x0": 0, "x1": 1, "y0": limit * 1e3,
+                                 "y1": limit * 1e3, "line": {"color": RED, "width": 1.5}}]
+            layout["annotations"] = [label | {"y": limit * 1e3, "text": f"limit {mm(limit)}"}]
+        else:  # far above a flat history: drawn, it would squash the observations into one line
+            layout["annotations"] = [label | {"yref": "paper", "y": 1.0,
+                                              "text": f"limit {mm(limit)}: above the plotted range"}]
     if x_max is not None:
         layout["xaxis"]["range"] = [k[0] - 0.5, x_max]
     return _figure(data, layout)
@@ -147,7 +153,9 @@ def wear_figure(app: pd.DataFrame) -> dict | None:
              "line": {"color": color}}
             for col, name, color in (("screw_raceway_m", "screw raceway", BLUE),
                                      ("nut_raceway_m", "nut raceway", ORANGE), ("ball_m", "balls", GREEN))]
-    return _figure(data, _layout("brake applications since the state began", "wear depth [µm]"))
+    layout = _layout("brake applications since the state began", "wear depth [µm]")
+    layout["yaxis"]["exponentformat"] = "e"  # a real unit wears 1e-4 µm per application: no "40μ" of µm
+    return _figure(data, layout)
 
 
 def faults_figure(by_signal: dict[str, dict[str, int]]) -> dict | None:
