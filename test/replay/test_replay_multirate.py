@@ -77,3 +77,19 @@ def test_foreign_multirate_recordings_align_without_faults(tmp_path, case_id):
     assert result.summary["input_faults"] == {}
     n = len(truth["applications"]["demand_N"])
     assert n - 1 <= result.summary["duty_cycles"] <= n
+
+
+def test_two_recorders_of_one_unit_overlapping_in_time_are_merged_by_log_time(tmp_path):
+    """Angle and velocity recorded in one bag, force and current in another over the same time (two
+    recorders): the reader merges the files by log time, so the replay equals that of one bag."""
+    unit = load_unit()
+    rec = recording(CYCLES, 9)
+    one = write(tmp_path / "one", rec, "mcap")
+    a = write(tmp_path / "a", {s: rec[s] for s in ("angle", "velocity")}, "sqlite3")
+    b = write(tmp_path / "b", {s: rec[s] for s in ("axial_force", "current")}, "mcap")
+    whole = replay_bags([one], unit).units[0]
+    split = replay_bags([b, a], unit).units[0]
+    assert split.summary["duty_cycles"] == CYCLES
+    assert {k: v for k, v in split.summary.items() if k != "unit"} == \
+        {k: v for k, v in whole.summary.items() if k != "unit"}
+    assert split.bags == [str(a), str(b)] or split.bags == [str(b), str(a)]
