@@ -43,7 +43,15 @@ import yaml
 
 from ebm_wear_monitor.bagio.storage import Chunk, Records, Storage, open_storage
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS, Batch, Decoded, split_topic, stamp_ns
+from ebm_wear_monitor.monitor.wire import (
+    FLOAT64_STAMPED,
+    INPUT_TOPICS,
+    Batch,
+    Decoded,
+    decode_uniform,
+    split_topic,
+    stamp_ns,
+)
 
 STORAGE_SUFFIX = {".db3": "sqlite3", ".mcap": "mcap"}
 
@@ -329,8 +337,6 @@ class BagReader:
     @staticmethod
     def _decode(records: Records) -> Decoded:
         """Decode every record (bulk; rosbags' general deserializer for what bulk does not recognise)."""
-        from ebm_wear_monitor.monitor.wire import decode_uniform
-
         parts = [(pos, decode_uniform(rows.reshape(-1), rows.shape[1]), rows) for pos, rows in records.groups]
         if len(parts) == 1 and parts[0][0].size == records.count:
             pos, out, rows = parts[0]
