@@ -116,8 +116,8 @@ def run(args: argparse.Namespace) -> int:
           f"{len(fleet.skipped)} unchanged (skipped)")
     for _, row in tables.units.head(10).iterrows():
         view = life_view(*unit_entries(row), "failed" if row["status"] == "failed" else None)
-        print(f"{row['rank']:>5d}  {row['unit']:<28s} {view.status_words:<24s} clearance {view.clearance} "
-              f"({view.fraction_text} of limit); life {view.applications}")
+        print(f"{row['rank']:>5d}  {row['unit']:<28s} clearance {view.clearance} "
+              f"({view.fraction_text} of limit); life {view.line()}")
     for failure in tables.document["failures"]:
         print(f"failed: {failure['unit']} {failure['bag'] or ''}: {failure['reason']}")
     print(f"outputs in {out}: units.parquet, applications.parquet, fleet_summary.csv, fleet.json; "

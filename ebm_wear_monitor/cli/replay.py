@@ -33,16 +33,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def format_unit(entry: dict) -> str:
-    """Human-readable lines of one unit's section 4 entry (µm, mm, counts)."""
+    """Human-readable lines of one unit's section 4 entry (µm, mm, counts, hours, days)."""
+    from ebm_wear_monitor.reports.life import life_view
+
     w, c, r = entry["wear"], entry["clearance"], entry["remaining_life"]
 
     def mm(v: float | None) -> str:
         return "n/a" if v is None else f"{v * 1e3:.4f} mm"
 
-    life = ("not yet measurable (no clearance growth resolved)" if r["cycles_p05"] is None else
-            f"p05 {r['cycles_p05']:.4g} / p50 {r['cycles_p50']:.4g} / p95 {r['cycles_p95']:.4g} applications")
-    if r["cycles_p05"] is not None and r.get("hours_p50") is not None:
-        life += f" (p50 {r['hours_p50']:.4g} h at {r['applications_per_hour']:.4g} applications/h)"
+    life = life_view(r, c).line()
+    if r.get("growth_rate_m_per_cycle") is not None:
+        life += (f"; clearance growth {r['growth_rate_m_per_cycle'] * 1e6:.3g} ± "
+                 f"{r['growth_rate_std_m_per_cycle'] * 1e6:.2g} µm per application")
     if r.get("fatigue_remaining_cycles") is not None:
         life += (f"; fatigue (ISO 3408-5 L10): {r['fatigue_remaining_cycles']:.4g} applications; "
                  f"limiting: {r.get('limiting_mechanism', 'unknown')}")

@@ -36,8 +36,9 @@ Every sample that cannot be used is counted under one fault kind (the first that
 ``gap``              consecutive aligned samples further apart than ``gap_s``
 
 The adapters add ``undecodable`` (a record that did not decode) and ``lost`` (records of a
-damaged storage chunk); the core counts under "stream": ``interrupted_cycle``,
-``observation_rejected`` and ``clearance_reset``.
+damaged storage chunk); the core counts under "stream": ``interrupted_cycle`` (a gap inside a
+brake application) and ``observation_rejected`` (a clearance observation outside the filter's
+innovation gate, monitor/tracker.py).
 
 Why node and replay agree (any chunking, any interleaving of the topics): every
 decision about a sample is a function of its own topic's arrival sequence only.
@@ -70,7 +71,7 @@ SIGNALS = ("angle", "velocity", "axial_force")
 IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the wear monitor
 FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_glitch", "stamp_backwards", "late",
                "duplicate", "out_of_order", "reanchored", "missing", "gap", "undecodable", "lost",
-               "interrupted_cycle", "observation_rejected", "clearance_reset")
+               "interrupted_cycle", "observation_rejected")
 _NO_STAMP = int(np.iinfo(np.int64).min)
 _MAX_KEY = int(np.iinfo(np.int64).max)
 NEGATIVE_FORCE_MULTIPLE = 10.0  # force below -10 x the contact threshold is a wiring / sign fault

@@ -140,35 +140,64 @@ class MonitorConfig:
         "1-sigma prior on the unit's clearance before the first observation (assembly tolerance)")
     initial_factor_std: float = _p(
         1.0, "-", 1e-6, 100.0,
-        "1-sigma prior on the wear-rate correction factor (prior mean 1 = model right); 1.0 means the "
-        "model may be off by its own size, so the prior alone never yields a remaining life")
+        "1-sigma prior of the model component's wear-rate factor (kalman.py; mean 1 = model right): the "
+        "model may be off by its own size; also the factor's variance opened at a growth change")
     growth_scatter: float = _p(
         0.5, "-", 0.0, 10.0,
         "1-sigma relative scatter of one application's clearance growth around the model "
         "(cycle-to-cycle spread of the Archard coefficient)")
     factor_drift_per_cycle: float = _p(
         1e-3, "-", 0.0, 1.0,
-        "random-walk 1-sigma of the correction factor per application: lets it wander by ~1 over 1e6 "
-        "applications (run-in, lubricant ageing)")
-
+        "random-walk 1-sigma of the model component's factor per application: lets it wander by ~1 over "
+        "1e6 applications (run-in, lubricant ageing)")
+    model_prior_weight: float = _p(
+        0.5, "-", 1e-3, 0.999,
+        "prior probability that the wear model is right up to its factor (kalman.py): 1/2, no preference; "
+        "the data-driven growth hypotheses share the rest. Applies from the start of a unit's history")
+    accelerating_prior_weight: float = _p(
+        0.1, "-", 0.0, 0.5,
+        "prior probability of accelerating growth (exponential on a grid of e-folding rates, or a steadily "
+        "climbing rate), taken from the data-driven share: one growing unit in ten is in accelerated wear "
+        "(ASSUMED). Applies from the start of a unit's history")
+    rate_wander_per_cycle: float = _p(
+        0.01, "-", 0.0, 0.5,
+        "random walk of the growth rate per application, relative to itself, of the wandering half of "
+        "the data-driven hypotheses: the rate may drift by ~10 % over 100 applications")
+    regime_change_per_cycle: float = _p(
+        1e-6, "-", 0.0, 0.01,
+        "probability per application that the unit changes its wear regime (weights are mixed by it, so "
+        "no hypothesis is ever ruled out for good): about once in an EMBU's life")
     innovation_gate_sigma: float = _p(
         5.0, "-", 1.0, 1e6,
-        "an observation further than this many sigma of the innovation sqrt(P_xx + R) from the "
-        "prediction is counted 'observation_rejected' and not fused (a Gaussian innovation exceeds 5 "
-        "sigma once in 1.7e6 applications)")
+        "an observation further than this many sigma of the innovation sqrt(P_cc + R) from the "
+        "prediction of every hypothesis is counted 'observation_rejected' and not fused (a Gaussian "
+        "innovation exceeds 5 sigma once in 1.7e6 applications)")
     reset_after_rejections: int = _p(
-        5, "-", 1, 1 << 30,
-        "this many rejections in a row mean the clearance itself changed (adjustment, maintenance): "
-        "the clearance restarts at the observation ('clearance_reset'), the wear-rate factor is kept")
+        3, "-", 1, 1 << 30,
+        "this many rejected observations in a row on the same side mean the clearance itself stepped "
+        "(adjustment, maintenance, fracture): the step is placed at the first of them and the filter "
+        "re-run with it (tracker.py); one alone is an outlier")
+    change_window_cycles: int = _p(
+        30, "-", 5, 10000,
+        "applications over which a step of the clearance or a change of its growth rate is searched "
+        "(generalised likelihood ratio, tracker.py), and kept for re-filtering once found")
+    change_false_alarm_per_cycle: float = _p(
+        1e-4, "-", 1e-12, 0.1,
+        "false detections of a step or rate change per application the change test allows (sets its "
+        "chi-square thresholds with a Bonferroni split over the window)")
+    noise_scale_prior_cycles: float = _p(
+        10.0, "-", 0.1, 1e9,
+        "weight, in observations, of the prior 'the error budget of observation.py is right' in the "
+        "measured scale of the observation noise (kalman.py)")
 
     # ---- remaining life (life.py)
     min_cycles_for_life: int = _p(
         10, "-", 1, 1 << 40,
-        "no remaining life before this many observed applications")
+        "no remaining life before this many clearance observations; also the fastest growth the filter "
+        "expects consumes the whole margin (limit - nominal clearance) in this many applications")
     life_confidence_z: float = _p(
         1.6448536269514722, "-", 0.0, 10.0,
-        "normal quantile of the reported band: 1.645 gives p05 / p95; growth is 'measurable' when the "
-        "correction factor's lower bound mu - z sigma is positive")
+        "normal quantile of the reported band: 1.645 gives p05 / p95")
 
     # ---- persistence
     checkpoint_every_cycles: int = _p(

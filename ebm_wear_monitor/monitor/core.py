@@ -14,8 +14,8 @@ Data flow (each step in its own module)::
            fatigue sums                    sum |F|^3 |d theta|, sum |d theta| (ISO 3408-5)
            per completed application:
              clearance observation         observation.py
-             Kalman step                   kalman.py: predict with the model growth, update with the
-                                           observation behind an innovation gate
+             filter bank step              kalman.py / tracker.py: predict with the model growth, fuse
+                                           the observation (gate, steps, rate changes)
       -> CycleSummary per application; snapshot() for totals, remaining life (life.py), faults.
 
 Identical numbers for node and replay hold by construction: every decision
@@ -38,12 +38,12 @@ import numpy as np
 from ebm_wear_monitor import physics
 from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, InputAligner
 from ebm_wear_monitor.monitor.config import MonitorConfig
-from ebm_wear_monitor.monitor.kalman import ClearanceFilter
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
 from ebm_wear_monitor.monitor.observation import observe_clearance
 from ebm_wear_monitor.monitor.persistence import save_state
 from ebm_wear_monitor.monitor.segmentation import N_LABELS, Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
+from ebm_wear_monitor.monitor.tracker import REJECTED, ClearanceTracker
 from ebm_wear_monitor.outputs import jsonable
 from ebm_wear_monitor.params import UnitParams
 
@@ -70,7 +70,9 @@ class CycleSummary:
     clearance_model_m: float  # model clearance after the application [m]
     clearance_estimate_m: float  # filtered clearance after the application [m]
     clearance_std_m: float  # [m]
-    wear_rate_factor: float  # filter's correction of the model wear rate [-]
+    growth_rate_m_per_cycle: float  # learned clearance growth per application (the next one) [m]
+    growth_rate_std_m_per_cycle: float  # its 1-sigma [m]
+    wear_rate_factor: float  # learned growth over the model's mean growth per application [-] (NaN: none)
     wear_rate_factor_std: float
 
     @property
@@ -100,15 +102,23 @@ class MonitorSnapshot:
     clearance_model_m: float
     clearance_estimate_m: float
     clearance_std_m: float
-    wear_rate_factor: float
+    growth_rate_m_per_cycle: float  # learned clearance growth per application [m]
+    growth_rate_std_m_per_cycle: float
+    wear_rate_factor: float  # growth_rate / the model's mean growth per application [-]
     wear_rate_factor_std: float
     observations: int
+    clearance_steps: int  # steps of the clearance detected (tracker.py)
+    growth_changes: int  # changes of the growth rate detected
     limit_m: float
-    life_status: str  # "ok" | "insufficient_data" | "limit_reached"
+    life_status: str  # "ok" | "warn" | "due" | "insufficient_data" (life.py)
     cycles_p05: float | None
     cycles_p50: float | None
     cycles_p95: float | None
-    applications_per_hour: float | None
+    applications_per_hour: float | None  # observed usage [1/h]
+    usage_span_s: float | None  # stamp span over which the usage was observed [s]
+    seconds_p05: float | None  # remaining life at the observed usage [s]
+    seconds_p50: float | None
+    seconds_p95: float | None
     hours_p50: float | None
     fatigue_l10_revolutions: float | None
     fatigue_cubic_mean_load_n: float | None
@@ -131,11 +141,16 @@ class MonitorSnapshot:
             "clearance": {"model_m": self.clearance_model_m, "estimate_m": self.clearance_estimate_m,
                           "std_m": self.clearance_std_m, "wear_rate_factor": self.wear_rate_factor,
                           "wear_rate_factor_std": self.wear_rate_factor_std,
-                          "observations": self.observations},
+                          "observations": self.observations, "steps": self.clearance_steps,
+                          "growth_changes": self.growth_changes},
             "remaining_life": {
                 "limit_m": self.limit_m, "cycles_p05": self.cycles_p05, "cycles_p50": self.cycles_p50,
                 "cycles_p95": self.cycles_p95, "status": self.life_status,
                 "applications_per_hour": self.applications_per_hour, "hours_p50": self.hours_p50,
+                "seconds_p05": self.seconds_p05, "seconds_p50": self.seconds_p50,
+                "seconds_p95": self.seconds_p95, "usage_span_s": self.usage_span_s,
+                "growth_rate_m_per_cycle": self.growth_rate_m_per_cycle,
+                "growth_rate_std_m_per_cycle": self.growth_rate_std_m_per_cycle,
                 "fatigue_l10_revolutions": self.fatigue_l10_revolutions,
                 "fatigue_cubic_mean_load_n": self.fatigue_cubic_mean_load_n,
                 "revolutions": self.revolutions,
@@ -190,11 +205,7 @@ class MonitorCore:
             for kind, n in counts.items():
                 self._aligner.count(signal, kind, n)
         self._segmenter = Segmenter(self.config, self._th, st.force_baseline_n)
-        if st.filter_x is not None:
-            self._filter = ClearanceFilter(st.filter_x, st.filter_P)
-        else:
-            self._filter = ClearanceFilter.prior(self._nominal, self.config.initial_clearance_std_m,
-                                                 self.config.initial_factor_std)
+        self._tracker = self._start_tracker(st.tracker)
         if self._st.model_clearance_at_filter_m is None:
             self._st.model_clearance_at_filter_m = self.model_clearance()
 
@@ -208,6 +219,7 @@ class MonitorCore:
         if config.wear_method != self.config.wear_method:
             raise ValueError("wear_method cannot change while running; restart with the new method")
         self.config, self._th = config, config.resolve(self.unit)
+        self._tracker.configure(config)
         self._aligner.configure(config, self._th)
         self._segmenter.configure(config, self._th)
 
@@ -274,14 +286,12 @@ class MonitorCore:
         st.first_cycle_ns = seg.start_ns if st.first_cycle_ns is None else st.first_cycle_ns
         st.last_cycle_ns = seg.start_ns
         model = self.model_clearance()
-        cfg = self.config
         growth = model - st.model_clearance_at_filter_m
-        self._filter.predict(growth, cfg.growth_scatter, cfg.factor_drift_per_cycle)
         st.model_clearance_at_filter_m = model
-        observed, observed_std = observe_clearance(seg, self._th, cfg)
-        if math.isfinite(observed):
-            self._fuse(observed, observed_std ** 2)
-        st.filter_x, st.filter_P = self._filter.x.tolist(), self._filter.P.tolist()
+        observed, observed_std = observe_clearance(seg, self._th, self.config)
+        self._fuse(growth, observed, observed_std)
+        estimate, estimate_std = self._tracker.live.clearance()
+        rate, rate_std, factor, factor_std = self._growth_rate()
         return CycleSummary(
             index=st.duty_cycles, start_ns=seg.start_ns, end_ns=seg.end_ns,
             phase_durations_s=seg.phase_durations_s, peak_force_n=seg.peak_force,
@@ -290,25 +300,43 @@ class MonitorCore:
             screw_wear_m=tuple(phase_wear[0, :4].tolist()), nut_wear_m=tuple(phase_wear[1, :4].tolist()),
             ball_wear_m=tuple(phase_wear[2, :4].tolist()),
             clearance_observed_m=observed, clearance_observed_std_m=observed_std, clearance_model_m=model,
-            clearance_estimate_m=self._filter.clearance, clearance_std_m=self._filter.clearance_std,
-            wear_rate_factor=self._filter.factor, wear_rate_factor_std=self._filter.factor_std)
+            clearance_estimate_m=estimate, clearance_std_m=estimate_std, growth_rate_m_per_cycle=rate,
+            growth_rate_std_m_per_cycle=rate_std, wear_rate_factor=factor, wear_rate_factor_std=factor_std)
 
-    def _fuse(self, observed: float, variance: float) -> None:
-        """Kalman update behind an innovation gate (kalman.py); restart the clearance after a jump."""
-        st, cfg = self._st, self.config
-        y, s = self._filter.innovation(observed, variance)
-        if abs(y) <= cfg.innovation_gate_sigma * math.sqrt(s):
-            self._filter.update(observed, variance)
+    def _start_tracker(self, saved: dict | None) -> ClearanceTracker:
+        """The clearance tracker: resumed, migrated from a version-1 filter, or at the nominal prior."""
+        cfg, limit = self.config, self.unit.monitor.clearance_limit
+        if saved is not None and "legacy_filter" in saved:
+            x, P = saved["legacy_filter"]["x"], saved["legacy_filter"]["P"]
+            return ClearanceTracker.start(cfg, x[0], P[0][0], limit, factor=x[1], factor_var=P[1][1],
+                                          clearance_factor_cov=P[0][1])
+        if saved is not None:
+            return ClearanceTracker.from_dict(saved, cfg, self._nominal, limit)
+        return ClearanceTracker.start(cfg, self._nominal, cfg.initial_clearance_std_m ** 2, limit)
+
+    def _fuse(self, growth: float, observed: float, observed_std: float) -> None:
+        """One tracker step (kalman.py, tracker.py); count observations, rejections, steps, rate changes."""
+        st = self._st
+        result = self._tracker.step(growth, observed, observed_std ** 2)
+        if math.isfinite(observed):
             st.observations += 1
-            st.rejections_in_row = 0
-            return
-        self._aligner.count("stream", "observation_rejected", 1)
-        st.rejections_in_row += 1
-        if st.rejections_in_row >= cfg.reset_after_rejections:
-            self._aligner.count("stream", "clearance_reset", 1)
-            self._filter.restart_clearance(observed, variance)
-            st.observations += 1
-            st.rejections_in_row = 0
+        if result.outcome == REJECTED:
+            self._aligner.count("stream", "observation_rejected", 1)
+        st.clearance_steps += result.steps
+        st.growth_changes += result.changes
+
+    def _mean_model_growth(self) -> float:
+        """The wear model's mean clearance growth per application so far [m] (the future's prior mean)."""
+        st = self._st
+        return (self.model_clearance() - self._nominal) / st.duty_cycles if st.duty_cycles else 0.0
+
+    def _growth_rate(self) -> tuple[float, float, float, float]:
+        """Learned growth per application and its std [m], and both over the model's mean growth [-]."""
+        gbar = self._mean_model_growth()
+        rate, rate_std = self._tracker.live.growth_rate(self._tracker.hyp, gbar)
+        if gbar > 0.0:
+            return rate, rate_std, rate / gbar, rate_std / gbar
+        return rate, rate_std, math.nan, math.nan
 
     # ------------------------------------------------------------------ results
     def model_clearance(self) -> float:
@@ -321,6 +349,7 @@ class MonitorCore:
         """A copy of the persistent state now (save it with :func:`save_state`)."""
         st = self._st
         st.input_faults = self._aligner.fault_counts()
+        st.tracker = self._tracker.to_dict()
         st.force_baseline_n = self._segmenter.force_baseline
         return MonitorState.from_dict(st.to_dict())
 
@@ -333,25 +362,38 @@ class MonitorCore:
 
     def snapshot(self) -> MonitorSnapshot:
         """Totals, clearance, remaining life and input health now."""
-        st, cfg, f = self._st, self.config, self._filter
-        model = self.model_clearance()
-        growth_per_cycle = (model - self._nominal) / st.duty_cycles if st.duty_cycles else 0.0
-        life = wear_life(f.x, f.P, self.unit.monitor.clearance_limit, growth_per_cycle,
-                         observations=st.observations, min_cycles=cfg.min_cycles_for_life,
-                         z=cfg.life_confidence_z)
+        st, cfg, mon = self._st, self.config, self.unit.monitor
+        bank = self._tracker.live
+        life = wear_life(self._tracker.hyp, bank, mon.clearance_limit, self._mean_model_growth(),
+                         observations=st.observations, min_observations=cfg.min_cycles_for_life,
+                         z=cfg.life_confidence_z, warn_cycles=mon.warn_cycles, due_cycles=mon.due_cycles)
         fat = fatigue_life(self.unit.ball_screw.dynamic_load_rating, st.sum_f3_rot, st.sum_rot_rad,
                            st.duty_cycles)
-        per_hour = None
-        if st.duty_cycles >= 2 and st.last_cycle_ns > st.first_cycle_ns:
-            per_hour = (st.duty_cycles - 1) / ((st.last_cycle_ns - st.first_cycle_ns) * 1e-9 / 3600.0)
-        hours = life.cycles_p50 / per_hour if per_hour and life.cycles_p50 is not None else None
+        per_hour = span = None
+        if (st.duty_cycles >= 2 and st.first_cycle_ns is not None and st.last_cycle_ns is not None
+                and st.last_cycle_ns > st.first_cycle_ns):
+            span = (st.last_cycle_ns - st.first_cycle_ns) * 1e-9
+            per_hour = (st.duty_cycles - 1) / (span / 3600.0)
+
+        def seconds(cycles: float | None) -> float | None:
+            return cycles / per_hour * 3600.0 if per_hour and cycles is not None else None
+
+        estimate, estimate_std = bank.clearance()
+        rate, rate_std, factor, factor_std = self._growth_rate()
+        s50 = seconds(life.cycles_p50)
         return MonitorSnapshot(
             duty_cycles=st.duty_cycles, wear_screw_m=st.wear_screw_m, wear_nut_m=st.wear_nut_m,
-            wear_ball_m=st.wear_ball_m, clearance_model_m=model, clearance_estimate_m=f.clearance,
-            clearance_std_m=f.clearance_std, wear_rate_factor=f.factor, wear_rate_factor_std=f.factor_std,
-            observations=st.observations, limit_m=self.unit.monitor.clearance_limit, life_status=life.status,
+            wear_ball_m=st.wear_ball_m, clearance_model_m=self.model_clearance(),
+            clearance_estimate_m=estimate,
+            clearance_std_m=estimate_std, growth_rate_m_per_cycle=rate, growth_rate_std_m_per_cycle=rate_std,
+            wear_rate_factor=factor, wear_rate_factor_std=factor_std, observations=st.observations,
+            clearance_steps=st.clearance_steps, growth_changes=st.growth_changes,
+            limit_m=mon.clearance_limit, life_status=life.status,
             cycles_p05=life.cycles_p05, cycles_p50=life.cycles_p50, cycles_p95=life.cycles_p95,
-            applications_per_hour=per_hour, hours_p50=hours, fatigue_l10_revolutions=fat.l10_revolutions,
+            applications_per_hour=per_hour, usage_span_s=span, seconds_p05=seconds(life.cycles_p05),
+            seconds_p50=s50, seconds_p95=seconds(life.cycles_p95),
+            hours_p50=None if s50 is None else s50 / 3600.0,
+            fatigue_l10_revolutions=fat.l10_revolutions,
             fatigue_cubic_mean_load_n=fat.cubic_mean_load_n, revolutions=fat.revolutions,
             fatigue_remaining_cycles=fat.remaining_cycles, limiting_mechanism=limiting_mechanism(life, fat),
             input_faults=self._aligner.fault_totals(), input_faults_by_signal=self._aligner.fault_counts(),

@@ -1,100 +1,315 @@
-"""Kalman filter of the axial clearance with a learned wear-rate correction factor (filterpy).
+"""The axial clearance and its growth rate, learned from the observations: a bank of Kalman filters.
 
-State (per brake application k)::
+The wear model (000 eq. 20-23 through ``physics.clearance_growth``) predicts the
+clearance growth g_k of each brake application k. It may be right, a little off,
+or wrong by orders of magnitude (a textbook wear coefficient, a lubrication
+failure, contamination, another material). The monitor must follow the measured
+clearance whatever the model says, and still use the model where the data cannot
+tell yet. So the growth is a *hypothesis test* between a small set of linear
+state-space models, each a Kalman filter, run side by side on the same
+observations (a Gaussian-sum or multiple-model filter; Bar-Shalom, Li and
+Kirubarajan, *Estimation with Applications to Tracking and Navigation*, ch. 11).
 
-    x = [x_ag, f]      x_ag: axial clearance [m];  f: wear-rate correction factor [-]
+State and transition
+--------------------
+Every component i has the state x = [c, r, a]: c the axial clearance [m], r the
+clearance growth per application beyond the model's [m], a the change of r per
+application [m] (used by one family only). Between applications k-1 and k::
 
-Process: the wear model (000 eq. 20-23, through the physics core's
-``clearance_growth``) predicts the clearance growth g_k of application k; the
-truth is assumed to be f times that, with f constant up to a slow random walk::
+    c_k = c_k-1 + g_k + r_k-1 + a_k-1 / 2          r_k = rho_i r_k-1 + a_k-1          a_k = a_k-1
 
-    x_ag,k = x_ag,k-1 + f_k-1 g_k + w_x      w_x ~ N(0, (s_g g_k)^2)
-    f_k    = f_k-1 + w_f                     w_f ~ N(0, d_f^2)
+i.e. x_k = F_i x_k-1 + B g_k with F_i = [[1, 1, 1/2], [0, rho_i, 1], [0, 0, 1]]
+(the a-terms only for the accelerating component) and B = [1, 0, 0]'. The
+components differ in their dynamics and their prior:
 
-i.e. the transition matrix F_k = [[1, g_k], [0, 1]] varies with the model's
-growth (linear in the state, so the plain Kalman filter is exact). s_g
-(``growth_scatter``) is the cycle-to-cycle scatter of wear around its mean;
-d_f (``factor_drift_per_cycle``) lets the factor wander by ~1 over 1e6
-applications. Q_k = diag((s_g g_k)^2, d_f^2).
+* **model** (the wear model is right up to a factor): x = [c, f, 0],
+  c_k = c_k-1 + f g_k, f ~ N(1, s_f^2) with s_f = ``initial_factor_std``, as the
+  filter of issue 5. F = [[1, g_k, 0], [0, 1, 0], [0, 0, 1]], no B.
+* **steady** (rho = 1): the growth per application is g_k + r with r constant,
+  r ~ N(0, sigma_r0^2).
+* **accelerating, exponential** (rho = 1 + lambda, lambda on a log grid of
+  :data:`E_FOLDING_RATES` from 1e-4 to 3e-2 per application: the extra growth
+  rate e-folds in 10,000 to 33 applications): wear that feeds itself (a larger
+  clearance hits harder, debris abrades).
+* **accelerating, constant** (rho = 1, a ~ N(0, sigma_a0^2)): a rate that climbs
+  linearly, e.g. a lubricant that degrades steadily.
 
-Measurement: the clearance observed in the application (observation.py),
-z_k = x_ag,k + v, v ~ N(0, R_k), H = [1, 0], R_k from the sensor error budget.
-An observation whose innovation y = z - x_ag exceeds ``innovation_gate_sigma``
-times sqrt(S), S = P_xx + R, is rejected (outlier); several rejections in a row
-mean the clearance itself jumped (adjustment, maintenance) and the clearance
-state restarts at the observation while the learned factor is kept (core.py).
+Each data-driven dynamics comes twice: with a steady rate and with a rate that
+wanders by ``rate_wander_per_cycle`` of itself per application (model error of
+the dynamics; lets exponential and constant-acceleration histories that fall
+between the grid points be followed).
 
-The factor is observable only through accumulated growth: after N applications
-of growth g and noise sigma, var(f) ~ 12 sigma^2 / (g^2 N^3) (least squares on a
-line), so with g = 5e-10 m and sigma = 1 um the factor is known to +-50 % after
-~600 applications. When the physics under- or over-predicts, f moves away from
-1 and says so (``wear_rate_factor`` in the ``wear`` topic).
+Process noise: Q_k = diag((s_g g_k)^2, q_r^2, 0) with s_g = ``growth_scatter``
+(cycle-to-cycle spread of the model's growth) and q_r = ``factor_drift_per_cycle``
+for the model component, ``rate_wander_per_cycle`` * |r| for the wandering ones,
+0 otherwise.
+
+Priors (why the model is informative but never a constraint)
+------------------------------------------------------------
+The data-driven components start at r ~ N(0, sigma_r0^2) with sigma_r0 =
+(L - x_nom) / N_min, L the clearance limit, x_nom the nominal clearance and
+N_min = ``min_cycles_for_life``: the fastest growth that matters consumes the
+whole margin before the first remaining life can be issued. Any rate from 0 to
+~10^6 x the model (3e-5 m per application for the reference EMBU) lies within
+about one sigma_r0: the prior never holds a rate back. The model enters twice:
+as the prior *mean* of the growth (the input g_k of every component) and as the
+model component, whose prior weight ``model_prior_weight`` (1/2: no preference)
+is its informative part. Component weights w_i follow Bayes' rule with the
+innovation likelihood of each filter::
+
+    w_i <- w_i N(y_i; 0, S_i) / sum_j w_j N(y_j; 0, S_j),     S_i = P_i,cc + R,
+
+then w <- (1 - eps) w + eps / M (eps = ``regime_change_per_cycle``: the unit may
+change its wear regime, so no hypothesis is ever ruled out for good).
+
+Learning time is set by the observation noise, not by the prior. After N
+applications of observation noise sigma, a steady component knows r to
+sigma_r = sigma sqrt(12 / N^3) (least squares on a line; the prior's information
+1 / sigma_r0^2 is negligible after two observations). Against the model
+component, whose growth is g (1 +- s_f), its weight ratio grows as
+
+    ln(w_steady / w_model) = z^2 / 2 - ln(sigma_r0 / sigma_r) + ln(prior odds),    z = (r - g) / sigma_r
+
+so it takes over once the accumulated growth departs from the model's by
+z ~ 4-5 standard errors; z grows as N^(3/2), so that happens at
+N ~ (12 (4.5 sigma / r)^2)^(1/3) applications, whatever the ratio of r to the
+model's rate (0, 1e3 or 1e6 x g: tested). When the data agree with the model
+(flat or model-like growth), the model keeps its weight (the Occam factor
+sigma_r / sigma_r0 penalises the wider hypotheses), so a healthy unit's remaining
+life comes from the model and is not shortened by noise.
+
+Observation
+-----------
+z_k = c_k + v_k, H = [1, 0, 0], v_k ~ N(0, beta R_k) with R_k from the
+observation's error budget (observation.py) and beta a noise scale estimated from
+the data (the error budget is declared, its scale is measured): beta is the mean
+over the observations of (y^2 - P_cc) / R_k (E[y^2] = P_cc + beta R_k), averaged
+over the components that predicted the clearance better than one observation
+measures it (P_cc < R_k) with their posterior weights, counted only when those
+hold more than half the weight, and with ``noise_scale_prior_cycles``
+pseudo-observations at beta = 1.
+
+Update in Joseph form, per component: K = P H' / S, x += K y,
+P = (I - K H) P (I - K H)' + K beta R K'.
+
+The clearance estimate reported is the mixture mean sum_i w_i c_i with the
+mixture variance sum_i w_i (P_i,cc + (c_i - c)^2). Outliers, steps of the
+clearance and changes of the growth rate are handled around this bank by
+:mod:`.tracker`; remaining life from the mixture by :mod:`.life`.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
-from filterpy.kalman import KalmanFilter
 
-_H = np.array([[1.0, 0.0]])
+from ebm_wear_monitor.monitor.config import MonitorConfig
+
+#: e-folding rates lambda of the accelerating components [1/application] (rho = 1 + lambda)
+E_FOLDING_RATES = np.geomspace(1e-4, 3e-2, 12)
+_LOG_2PI = math.log(2.0 * math.pi)
+DIM = 3  # [c, r, a]
+#: components: the model, then (steady, each exponential, constant acceleration) x (steady, wandering rate)
+COMPONENTS = 1 + 2 * (len(E_FOLDING_RATES) + 2)
 
 
-class ClearanceFilter:
-    """Two-state Kalman filter [x_ag, f]; ``x``/``P`` round-trip through lists for persistence."""
+@dataclass(frozen=True)
+class Hypotheses:
+    """The static structure of the bank: one entry per component (arrays of length M)."""
 
-    def __init__(self, x: list[float] | np.ndarray, P: list[list[float]] | np.ndarray):
-        self._kf = KalmanFilter(dim_x=2, dim_z=1)
-        self._kf.x = np.asarray(x, dtype=float).reshape(2, 1).copy()
-        self._kf.P = np.asarray(P, dtype=float).reshape(2, 2).copy()
-        self._kf.H = _H.copy()
+    rho: np.ndarray  # rate multiplier per application [-]
+    accel: np.ndarray  # bool: constant-acceleration component (uses state a)
+    wander: np.ndarray  # relative random walk of r per application [-]
+    model: np.ndarray  # bool: the model-factor component (state [c, f, 0])
+    log_prior: np.ndarray  # log prior weights (normalised)
 
     @classmethod
-    def prior(cls, clearance_m: float, clearance_std_m: float, factor_std: float) -> ClearanceFilter:
-        """Start at the nominal clearance with factor 1 (model right), independent Gaussian priors."""
-        return cls([clearance_m, 1.0], np.diag([clearance_std_m ** 2, factor_std ** 2]))
-
-    def predict(self, growth_m: float, growth_scatter: float, factor_drift: float) -> None:
-        """Propagate one application whose model-predicted clearance growth is ``growth_m`` [m]."""
-        F = np.array([[1.0, growth_m], [0.0, 1.0]])
-        Q = np.diag([(growth_scatter * growth_m) ** 2, factor_drift ** 2])
-        self._kf.predict(F=F, Q=Q)
-
-    def update(self, observed_m: float, variance_m2: float) -> None:
-        """Fuse one clearance observation [m] with noise variance R [m^2]."""
-        self._kf.update(np.array([[observed_m]]), R=np.array([[variance_m2]]))
-
-    def innovation(self, observed_m: float, variance_m2: float) -> tuple[float, float]:
-        """(y, S): residual z - H x [m] and its variance H P H' + R [m^2] before an update."""
-        return observed_m - float(self._kf.x[0, 0]), float(self._kf.P[0, 0]) + variance_m2
-
-    def restart_clearance(self, observed_m: float, variance_m2: float) -> None:
-        """The clearance changed by itself (adjustment): restart it at the observation, keep the factor."""
-        self._kf.x[0, 0] = observed_m
-        self._kf.P[0, 0] = variance_m2
-        self._kf.P[0, 1] = self._kf.P[1, 0] = 0.0
+    def build(cls, config: MonitorConfig) -> Hypotheses:
+        """Model component, then each data-driven dynamics with a steady and a wandering rate."""
+        w_model, w_acc = config.model_prior_weight, config.accelerating_prior_weight
+        w_steady = max(1.0 - w_model - w_acc, 0.0)
+        dyn = [(1.0, False, w_steady)]
+        n_acc = len(E_FOLDING_RATES) + 1
+        dyn += [(1.0 + lam, False, w_acc / n_acc) for lam in E_FOLDING_RATES]
+        dyn.append((1.0, True, w_acc / n_acc))
+        rho, accel, wander, weight = [1.0], [False], [0.0], [w_model]
+        for r, acc, w in dyn:
+            for q in (0.0, config.rate_wander_per_cycle):
+                rho.append(r)
+                accel.append(acc)
+                wander.append(q)
+                weight.append(0.5 * w)
+        weight_arr = np.asarray(weight)
+        model = np.zeros(len(rho), bool)
+        model[0] = True
+        with np.errstate(divide="ignore"):
+            log_prior = np.log(weight_arr / weight_arr.sum())
+        return cls(np.asarray(rho), np.asarray(accel), np.asarray(wander), model, log_prior)
 
     @property
-    def x(self) -> np.ndarray:
-        """State mean [x_ag [m], f [-]]."""
-        return self._kf.x[:, 0].copy()
+    def size(self) -> int:
+        return len(self.rho)
 
-    @property
-    def P(self) -> np.ndarray:
-        """State covariance (2x2) [m^2, m; m, 1]."""
-        return self._kf.P.copy()
+    def transition(self, growth_m: float) -> tuple[np.ndarray, np.ndarray]:
+        """(F, B g) per component for an application of model growth ``growth_m`` [m]: (M, 3, 3), (M, 3)."""
+        m = self.size
+        F = np.zeros((m, DIM, DIM))
+        F[:, 0, 0] = F[:, 2, 2] = 1.0
+        F[:, 1, 1] = self.rho
+        F[:, 0, 1] = np.where(self.model, growth_m, 1.0)
+        F[self.accel, 0, 2] = 0.5
+        F[self.accel, 1, 2] = 1.0
+        u = np.zeros((m, DIM))
+        u[~self.model, 0] = growth_m
+        return F, u
 
-    @property
-    def clearance(self) -> float:
-        return float(self._kf.x[0, 0])
+    def projection(self, n: np.ndarray, mean_growth_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per component: (h1, h2, o),
+        each of shape n.shape + (M,).
 
-    @property
-    def clearance_std(self) -> float:
-        return float(np.sqrt(max(self._kf.P[0, 0], 0.0)))
+        Steady: h1 = n; exponential: h1 = (rho^n - 1) / (rho - 1); constant acceleration: h1 = n,
+        h2 = n^2 / 2; model: h1 = n gbar, o = 0; o = n gbar for the others (gbar: the model's mean
+        growth per application so far [m]). rho^n is capped at e^100 (beyond any limit).
+        """
+        n = np.asarray(n, float)[..., None]
+        log_rho = np.log(self.rho)
+        grows = log_rho > 0.0
+        with np.errstate(over="ignore", invalid="ignore"):
+            geometric = np.expm1(np.minimum(n * log_rho, 100.0)) / np.where(grows, self.rho - 1.0, 1.0)
+        h1 = np.where(self.model, n * mean_growth_m, np.where(grows, geometric, n))
+        h2 = np.where(self.accel, 0.5 * n * n, 0.0)
+        return h1, h2, np.where(self.model, 0.0, n * mean_growth_m)
 
-    @property
-    def factor(self) -> float:
-        return float(self._kf.x[1, 0])
+    def moments(self, bank: Bank, n: np.ndarray, mean_growth_m: float,
+                keep: np.ndarray | slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Growth n applications ahead, G_n = Y_n - c, per kept component: its mean [m], its variance
+        [m^2] and its covariance with the clearance c [m^2]."""
+        h1, h2, o = (a[..., keep] for a in self.projection(n, mean_growth_m))
+        x, P = bank.x[keep], bank.P[keep]
+        mean = h1 * x[:, 1] + h2 * x[:, 2] + o
+        var = h1 * h1 * P[:, 1, 1] + 2.0 * h1 * h2 * P[:, 1, 2] + h2 * h2 * P[:, 2, 2]
+        cov_c = h1 * P[:, 0, 1] + h2 * P[:, 0, 2]
+        return mean, var, cov_c
 
+
+class Bank:
+    """Means, covariances and log weights of the M components, and the observation-noise scale.
+
+    Plain arrays, so the bank copies and serialises exactly (``to_dict`` / ``from_dict``).
+    """
+
+    def __init__(self, x: np.ndarray, P: np.ndarray, logw: np.ndarray, noise_sum: float, noise_count: float):
+        self.x = np.array(x, float)  # (M, 3)
+        self.P = np.array(P, float)  # (M, 3, 3)
+        self.logw = np.array(logw, float)  # (M,)
+        self.noise_sum, self.noise_count = float(noise_sum), float(noise_count)
+
+    @classmethod
+    def prior(cls, hyp: Hypotheses, config: MonitorConfig, clearance_m: float, clearance_var_m2: float,
+              rate_std_m: float, *, factor: float = 1.0, factor_var: float | None = None,
+              clearance_factor_cov: float = 0.0) -> Bank:
+        """Every component at the clearance prior; r ~ N(0, rate_std^2), f ~ N(factor, factor_var),
+        a ~ N(0, sigma_a0^2) with sigma_a0 = 2 rate_std / N_min (the fastest acceleration consumes
+        the margin from rest in N_min applications)."""
+        m = hyp.size
+        x = np.zeros((m, DIM))
+        x[:, 0] = clearance_m
+        x[hyp.model, 1] = factor
+        P = np.zeros((m, DIM, DIM))
+        P[:, 0, 0] = clearance_var_m2
+        P[:, 1, 1] = rate_std_m ** 2
+        P[hyp.model, 1, 1] = config.initial_factor_std ** 2 if factor_var is None else factor_var
+        P[hyp.model, 0, 1] = P[hyp.model, 1, 0] = clearance_factor_cov
+        P[hyp.accel, 2, 2] = (2.0 * rate_std_m / config.min_cycles_for_life) ** 2
+        nu0 = config.noise_scale_prior_cycles
+        return cls(x, P, hyp.log_prior.copy(), nu0, nu0)
+
+    def copy(self) -> Bank:
+        return Bank(self.x, self.P, self.logw, self.noise_sum, self.noise_count)
+
+    # ---------------------------------------------------------------- filter steps
     @property
-    def factor_std(self) -> float:
-        return float(np.sqrt(max(self._kf.P[1, 1], 0.0)))
+    def noise_scale(self) -> float:
+        """beta: measured observation variance over the error budget's [-]."""
+        return self.noise_sum / self.noise_count
+
+    def predict(self, hyp: Hypotheses, config: MonitorConfig, growth_m: float) -> np.ndarray:
+        """x <- F x + B g, P <- F P F' + Q for one application; returns F (M, 3, 3)."""
+        F, u = hyp.transition(growth_m)
+        self.x = np.einsum("mij,mj->mi", F, self.x) + u
+        self.P = F @ self.P @ F.transpose(0, 2, 1)
+        self.P[:, 0, 0] += (config.growth_scatter * growth_m) ** 2
+        rate_noise = np.where(hyp.model, config.factor_drift_per_cycle, hyp.wander * np.abs(self.x[:, 1]))
+        self.P[:, 1, 1] += rate_noise ** 2
+        return F
+
+    def open(self, hyp: Hypotheses, clearance_var_m2: float, rate_var_m2: float, factor_var: float) -> None:
+        """Let the clearance and/or the growth rate jump here: add their prior variances (tracker.py)."""
+        self.P[:, 0, 0] += clearance_var_m2
+        self.P[:, 1, 1] += np.where(hyp.model, factor_var, rate_var_m2)
+
+    def innovation(self, observed_m: float, budget_var_m2: float) -> tuple[np.ndarray, np.ndarray]:
+        """(y, S) per component: residual z - c [m] and its variance P_cc + beta R [m^2]."""
+        return observed_m - self.x[:, 0], self.P[:, 0, 0] + self.noise_scale * budget_var_m2
+
+    def update(self, config: MonitorConfig, budget_var_m2: float, y: np.ndarray, S: np.ndarray) -> np.ndarray:
+        """Fuse one observation (innovations from :meth:`innovation`); returns the gains K (M, 3)."""
+        prior_cc = self.P[:, 0, 0].copy()
+        r = S - prior_cc
+        K = self.P[:, :, 0] / S[:, None]
+        self.x = self.x + K * y[:, None]
+        A = np.broadcast_to(np.eye(DIM), self.P.shape).copy()
+        A[:, :, 0] -= K
+        self.P = A @ self.P @ A.transpose(0, 2, 1) + r[:, None, None] * K[:, :, None] * K[:, None, :]
+        self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
+        self.logw = self.logw - 0.5 * (_LOG_2PI + np.log(S) + y * y / S)
+        w = self.weights()
+        sharp = prior_cc < budget_var_m2  # clearance predicted better than one observation measures it
+        if w[sharp].sum() > 0.5:
+            sample = np.maximum(y * y - prior_cc, 0.0) / budget_var_m2
+            self.noise_sum += float(w[sharp] @ sample[sharp] / w[sharp].sum())
+            self.noise_count += 1.0
+        eps = config.regime_change_per_cycle
+        with np.errstate(divide="ignore"):
+            self.logw = np.log((1.0 - eps) * w + eps / w.size)
+        return K
+
+    # ---------------------------------------------------------------- summaries
+    def weights(self) -> np.ndarray:
+        w = np.exp(self.logw - np.max(self.logw))
+        return w / w.sum()
+
+    def clearance(self) -> tuple[float, float]:
+        """Mixture mean and standard deviation of the clearance [m]."""
+        w, c = self.weights(), self.x[:, 0]
+        mean = float(w @ c)
+        var = float(w @ (self.P[:, 0, 0] + (c - mean) ** 2))
+        return mean, math.sqrt(max(var, 0.0))
+
+    def growth_rate(self, hyp: Hypotheses, mean_growth_m: float) -> tuple[float, float]:
+        """Mixture mean and standard deviation of the next application's clearance growth [m]."""
+        mean_i, var_i, _ = hyp.moments(self, np.array(1.0), mean_growth_m)
+        w = self.weights()
+        mean = float(w @ mean_i)
+        return mean, math.sqrt(max(float(w @ (var_i + (mean_i - mean) ** 2)), 0.0))
+
+    # ---------------------------------------------------------------- persistence
+    def to_dict(self) -> dict[str, Any]:
+        return {"x": self.x.tolist(), "P": self.P.tolist(), "logw": self.logw.tolist(),
+                "noise_sum": self.noise_sum, "noise_count": self.noise_count}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], size: int) -> Bank:
+        """Inverse of :meth:`to_dict`; ValueError when shapes or values are wrong."""
+        x, P, logw = (np.asarray(data[k], float) for k in ("x", "P", "logw"))
+        if x.shape != (size, DIM) or P.shape != (size, DIM, DIM) or logw.shape != (size,):
+            raise ValueError(f"filter bank of {size} components expected, got shapes {x.shape}, {P.shape}")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(P)) and not np.any(np.isnan(logw))):
+            raise ValueError("filter bank holds non-finite numbers")
+        noise_sum, noise_count = float(data["noise_sum"]), float(data["noise_count"])
+        if not (noise_count > 0.0 and noise_sum >= 0.0 and math.isfinite(noise_sum)):
+            raise ValueError("filter bank noise scale is not a positive number")
+        return cls(x, P, logw, noise_sum, noise_count)

@@ -2,24 +2,37 @@
 
 Wear life
 ---------
-With the filter's Gaussian state (x_ag, f) ~ N(mu, P) and the model's mean
-clearance growth per application g (at the usage seen so far), the clearance
-after n more applications is Y_n = x_ag + n g f, Gaussian with
+The filter bank (kalman.py) holds M Gaussian components with weights w_i. In
+component i the clearance n applications ahead is linear in its state,
+Y_n = h_n . x_i + o_n (``Hypotheses.projection``: steady n, exponential
+(rho^n - 1) / (rho - 1), constant acceleration n^2 / 2, model n gbar), hence
+Gaussian with
 
-    E[Y_n] = mu_x + n g mu_f,   Var[Y_n] = P_xx + 2 n g P_xf + n^2 g^2 P_ff.
+    E_i[Y_n] = h_n . mu_i + o_n,      Var_i[Y_n] = h_n P_i h_n'.
 
-The unit reaches the limit L within n applications when Y_n >= L, so the
-distribution of the remaining life N is P(N <= n) = Phi((E[Y_n] - L) / sd[Y_n]).
-Its p-quantile solves E[Y_n] - L = z_p sd[Y_n]; squaring gives the quadratic
+The unit reaches the limit L within n applications when Y_m >= L for some m <= n.
+Per component this is approximated by the running maximum over m <= n of
+Phi((E_i[Y_m] - L) / sd_i[Y_m]) (exact while the mean path rises; a lower bound
+where it turns back), and the remaining life N has the mixture distribution
 
-    (a^2 - z^2 g^2 P_ff) n^2 + 2 (a b - z^2 g P_xf) n + (b^2 - z^2 P_xx) = 0,
-    a = g mu_f,  b = mu_x - L,
+    P(N <= n) = sum_i w_i max_{m <= n} Phi((E_i[Y_m] - L) / sd_i[Y_m]).
 
-whose root with sign(b + a n) = sign(z_p) is the quantile (p50: n = -b / a).
-The band is finite only when a^2 > z^2 g^2 P_ff, i.e. mu_f > z sigma_f: the
-factor's lower bound must be positive, which is exactly "growth is measurable".
-Before that (or before ``min_cycles_for_life`` observations) the status is
-``insufficient_data`` and the numbers are None, never made up.
+Its quantiles p05 / p50 / p95 (z = ``life_confidence_z``) are found on a
+logarithmic grid of n from 0.01 to 1e10 applications and refined within the
+bracketing interval (relative resolution 0.02 %). A quantile the distribution
+never reaches (the unit may never get to the limit: e.g. the model component
+allows no growth) is None: never a made-up number. Future process noise is not
+added: over n >> 1 applications the scatter of single applications averages out,
+and the uncertainty of the rate dominates.
+
+Status (thresholds in the unit file's ``monitor`` block, people act on them):
+
+* ``due``: the clearance estimate is at or over the limit, or p05 <= ``due_cycles``;
+* ``warn``: p05 <= ``warn_cycles``;
+* ``insufficient_data``: fewer than ``min_cycles_for_life`` clearance observations
+  (all numbers None), or p95 is unbounded (growth not yet resolved from the noise:
+  the numbers that exist are bounds, the model's or the data's);
+* ``ok`` otherwise.
 
 Fatigue life
 ------------
@@ -40,45 +53,89 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import ndtr
+
+from ebm_wear_monitor.monitor.kalman import Bank, Hypotheses
 
 STATUS_OK = "ok"
+STATUS_WARN = "warn"
+STATUS_DUE = "due"
 STATUS_INSUFFICIENT = "insufficient_data"
-STATUS_LIMIT = "limit_reached"
+STATUSES = (STATUS_OK, STATUS_WARN, STATUS_DUE, STATUS_INSUFFICIENT)
+
+#: coarse grid of remaining applications for the quantile search [-]
+_GRID = np.geomspace(1e-2, 1e10, 161)
+_REFINE = np.linspace(0.0, 1.0, 33)  # refinement points inside a bracketing interval, in log n
+_NEGLIGIBLE_WEIGHT = 1e-9  # components lighter than this do not move a 5 % quantile
 
 
 @dataclass(frozen=True)
 class WearLife:
-    status: str  # "ok" | "insufficient_data" | "limit_reached"
-    cycles_p05: float | None  # applications to the limit, 5th percentile [-]
+    status: str  # one of STATUSES
+    cycles_p05: float | None  # applications to the clearance limit, 5th percentile [-]; None: unbounded
     cycles_p50: float | None
     cycles_p95: float | None
 
 
-def _quantile(mu: np.ndarray, P: np.ndarray, limit: float, g: float, z: float) -> float:
-    a, b = g * mu[1], mu[0] - limit
-    if z == 0.0:
-        return -b / a
-    A = a * a - z * z * g * g * P[1, 1]
-    B = 2.0 * (a * b - z * z * g * P[0, 1])
-    C = b * b - z * z * P[0, 0]
-    disc = max(B * B - 4.0 * A * C, 0.0)
-    roots = ((-B - math.sqrt(disc)) / (2.0 * A), (-B + math.sqrt(disc)) / (2.0 * A))
-    # p05 (z < 0): the mean path is still below the limit, b + a n < 0: the smaller root
-    return roots[0] if z < 0 else roots[1]
+def _first_passage(hyp: Hypotheses, bank: Bank, keep: np.ndarray, n: np.ndarray, *, limit_m: float,
+                   mean_growth_m: float) -> np.ndarray:
+    """Phi((E_i[Y_n] - L) / sd_i[Y_n]) for the kept components, shape n.shape + (kept,)."""
+    growth, var_growth, cov = hyp.moments(bank, n, mean_growth_m, keep)
+    mean = bank.x[keep, 0] + growth
+    var = bank.P[keep, 0, 0] + 2.0 * cov + var_growth
+    return ndtr((mean - limit_m) / np.sqrt(np.maximum(var, 1e-300)))
 
 
-def wear_life(mu: np.ndarray, P: np.ndarray, limit_m: float, growth_per_cycle_m: float, *,
-              observations: int, min_cycles: int, z: float) -> WearLife:
-    """Applications until the clearance x_ag reaches ``limit_m``: p05 / p50 / p95 (see module doc)."""
-    mu, P = np.asarray(mu, float), np.asarray(P, float)
-    if mu[0] >= limit_m:
-        return WearLife(STATUS_LIMIT, 0.0, 0.0, 0.0)
-    sigma_f = math.sqrt(max(P[1, 1], 0.0))
-    if (observations < min_cycles or not growth_per_cycle_m > 0.0 or not math.isfinite(growth_per_cycle_m)
-            or mu[1] - z * sigma_f <= 0.0):
+def life_quantiles(hyp: Hypotheses, bank: Bank, limit_m: float, mean_growth_m: float,
+                   probabilities: tuple[float, ...]) -> list[float | None]:
+    """Remaining applications N with P(N <= n) = p for each p (module docstring); None where never reached."""
+    w = bank.weights()
+    keep = w > _NEGLIGIBLE_WEIGHT
+    w = w[keep] / w[keep].sum()
+    coarse = _first_passage(hyp, bank, keep, _GRID, limit_m=limit_m, mean_growth_m=mean_growth_m)
+    running = np.maximum.accumulate(coarse, axis=0)
+    cdf = running @ w
+    out: list[float | None] = []
+    for p in probabilities:
+        i = int(np.searchsorted(cdf, p))
+        if i >= _GRID.size:
+            out.append(None)
+            continue
+        if i == 0:
+            out.append(0.0)
+            continue
+        lo_n, floor = _GRID[i - 1], running[i - 1]
+        for level in range(2):  # refine the bracketing grid interval twice: 0.02 % resolution
+            fine = lo_n * (_GRID[1] / _GRID[0]) ** (_REFINE / (_REFINE.size - 1) ** level)
+            cdf_fine = np.maximum(floor, _first_passage(hyp, bank, keep, fine, limit_m=limit_m,
+                                                           mean_growth_m=mean_growth_m))
+            j = min(max(int(np.searchsorted(cdf_fine @ w, p)), 1), fine.size - 1)
+            lo_n, floor = fine[j - 1], cdf_fine[j - 1]
+        lo, hi = cdf_fine[j - 1] @ w, cdf_fine[j] @ w
+        t = (p - lo) / (hi - lo) if hi > lo else 0.0
+        out.append(float(fine[j - 1] * (fine[j] / fine[j - 1]) ** t))
+    return out
+
+
+def wear_life(hyp: Hypotheses, bank: Bank, limit_m: float, mean_growth_m: float, *, observations: int,
+              min_observations: int, z: float, warn_cycles: float, due_cycles: float) -> WearLife:
+    """Applications until the clearance reaches ``limit_m`` (p05 / p50 / p95) and the status (module doc)."""
+    clearance, _ = bank.clearance()
+    if clearance >= limit_m:
+        return WearLife(STATUS_DUE, 0.0, 0.0, 0.0)
+    if observations < min_observations:
         return WearLife(STATUS_INSUFFICIENT, None, None, None)
-    q = [max(_quantile(mu, P, limit_m, growth_per_cycle_m, zz), 0.0) for zz in (-z, 0.0, z)]
-    return WearLife(STATUS_OK, *q)
+    lo = float(ndtr(-z))
+    p05, p50, p95 = life_quantiles(hyp, bank, limit_m, mean_growth_m, (lo, 0.5, 1.0 - lo))
+    if p05 is not None and p05 <= due_cycles:
+        status = STATUS_DUE
+    elif p05 is not None and p05 <= warn_cycles:
+        status = STATUS_WARN
+    elif p95 is None:
+        status = STATUS_INSUFFICIENT
+    else:
+        status = STATUS_OK
+    return WearLife(status, p05, p50, p95)
 
 
 @dataclass(frozen=True)
@@ -105,10 +162,11 @@ def fatigue_life(load_rating_n: float | None, sum_f3_rot: float, sum_rot_rad: fl
 
 def limiting_mechanism(wear: WearLife, fatigue: FatigueLife) -> str:
     """'wear', 'fatigue' or 'unknown' (one of the two lives is not known yet)."""
-    if wear.status == STATUS_LIMIT:
+    if wear.cycles_p05 == 0.0:
         return "wear"
     if fatigue.remaining_cycles is not None and fatigue.remaining_cycles <= 0.0:
         return "fatigue"
     if wear.cycles_p05 is None or fatigue.remaining_cycles is None:
         return "unknown"
     return "wear" if wear.cycles_p05 <= fatigue.remaining_cycles else "fatigue"
+

@@ -160,7 +160,14 @@ class Actuator:
 
 @dataclass(frozen=True)
 class MonitorParams:
+    """Remaining-life thresholds people act on (monitor/life.py: status)."""
+
     clearance_limit: float = 0.5e-3  # x_ag at which maintenance is due [m]
+    # p05 remaining brake applications at or below which the status is "warn" [-]: 10,000 is about
+    # 25 days of a railway EMBU at 400 applications a day, time to plan the exchange (ASSUMED)
+    warn_cycles: float = 10000.0
+    # ... "due" [-]: 1,000 is 2-3 days at 400 a day, the unit should be exchanged now (ASSUMED)
+    due_cycles: float = 1000.0
 
 
 class MissingBlock:
@@ -315,9 +322,13 @@ def unit_from_dict(data: Any, where: str = "unit", blocks: tuple[str, ...] | Non
     if not isinstance(mon, dict):
         raise ParamError(f"{where}: section 'monitor' must be a mapping")
     monitor = _build(MonitorParams, mon, f"{where}: monitor",
-                     {"clearance_limit": {"required": False, "default": MonitorParams.clearance_limit}})
+                     {k: {"required": False, "positive": False, "nonnegative": True,
+                          "default": getattr(MonitorParams, k)} for k in ("warn_cycles", "due_cycles")}
+                     | {"clearance_limit": {"required": False, "default": MonitorParams.clearance_limit}})
     if actuator is not None and monitor.clearance_limit <= actuator.clearance:
         raise ParamError(f"{where}: monitor.clearance_limit must exceed actuator.clearance")
+    if monitor.due_cycles > monitor.warn_cycles:
+        raise ParamError(f"{where}: monitor.due_cycles must not exceed monitor.warn_cycles")
     name = str(data.get("name", Path(where).stem))
     return UnitParams(ball_screw, materials, lubricant, wear, actuator, monitor, name, data)
 

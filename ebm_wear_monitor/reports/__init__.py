@@ -10,6 +10,15 @@
 The JSON outputs keep SI units; only these pages convert.
 """
 
-from ebm_wear_monitor.reports.render import render_page
+from typing import Any
 
 __all__ = ["render_page"]
+
+
+def __getattr__(name: str) -> Any:
+    """``render_page`` on first use: the node imports :mod:`.life` and :mod:`.humanize` only, never
+    Jinja2 or Plotly (PEP 562)."""
+    if name == "render_page":
+        from ebm_wear_monitor.reports.render import render_page
+        return render_page
+    raise AttributeError(name)

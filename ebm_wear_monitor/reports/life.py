@@ -29,6 +29,15 @@ class LifeView:
     usage: str  # "3,220 applications per hour, observed over 0.2 h"
     caveat: str  # non-empty when the calendar time rests on too little observed usage
 
+    def line(self) -> str:
+        """One line for a terminal or a log (replay, fleet and the node print the same)."""
+        text = f"{self.status_words}: {self.applications}"
+        if self.calendar != NA:
+            text += f"; {self.calendar} at {self.usage}"
+        if self.caveat:
+            text += " (usage observed over less than a day: calendar time uncertain)"
+        return text
+
 
 def _calendar(rl: dict) -> str:
     secs = {q: rl.get(f"seconds_{q}") for q in ("p05", "p50", "p95")}
@@ -50,7 +59,9 @@ def life_view(remaining_life: dict, clearance: dict, state: str | None = None) -
     fraction = est / limit if known(est) and known(limit) and limit > 0 else None
     p = {q: rl.get(f"cycles_{q}") for q in ("p05", "p50", "p95")}
     if known(p["p50"]):
-        applications = f"{count(p['p50'])} applications (p05 {count(p['p05'])} – p95 {count(p['p95'])})"
+        # p95 null with p50 known: the unit may never reach the limit (growth not resolved from the noise)
+        p95 = count(p["p95"]) if known(p["p95"]) else "unbounded"
+        applications = f"{count(p['p50'])} applications (p05 {count(p['p05'])} – p95 {p95})"
     else:
         applications = "no measurable clearance growth yet: no remaining life to give"
     rate, span = rl.get("applications_per_hour"), rl.get("usage_span_s")

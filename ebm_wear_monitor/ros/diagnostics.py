@@ -11,12 +11,17 @@ and robot monitors display.
 
 Levels (ROS convention), decided by :func:`assess`, worst first:
 
+* ERROR: remaining-life status ``due`` (the clearance reached the limit, or p05 at or below the
+  unit file's ``monitor.due_cycles``): known from the data already integrated, so it is said
+  even when the inputs have stopped;
 * STALE: an input has never arrived or has been silent longer than ``stale_timeout_s``;
-* ERROR: the clearance estimate reached the unit's limit, or the core failed on a batch;
-* WARN: clearance above ``clearance_warn_fraction`` of the limit, p05 remaining
-  applications below ``remaining_cycles_warn``, an input slower than
+* ERROR: the core failed on a batch;
+* WARN: status ``warn`` (p05 at or below ``monitor.warn_cycles``), an input slower than
   ``min_input_rate_hz``, or new input faults since the previous report;
-* OK otherwise.
+* OK otherwise, including status ``insufficient_data`` (said in the message).
+
+The remaining-life part of the level is the core's status (monitor/life.py), so
+the node, ``ebm-wear replay`` and ``ebm-wear fleet`` say the same thing.
 """
 
 from __future__ import annotations
@@ -26,6 +31,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+from ebm_wear_monitor.monitor import STATUS_DUE, STATUS_INSUFFICIENT, STATUS_WARN
 
 #: the ROS levels (one-byte ``bytes`` in rclpy)
 OK, WARN, ERROR, STALE = (DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR,
@@ -38,17 +45,14 @@ class Thresholds:
 
     stale_timeout_s: float  # [s]
     min_input_rate_hz: float  # [Hz]
-    clearance_warn_fraction: float  # [-] of the clearance limit
-    remaining_cycles_warn: float  # [-] p05 brake applications
 
 
 @dataclass(frozen=True)
 class Health:
-    """What :func:`assess` looks at, all SI; NaN where unknown."""
+    """What :func:`assess` looks at, all SI."""
 
-    clearance_estimate_m: float
-    clearance_limit_m: float
-    cycles_p05: float
+    life_status: str  # remaining-life status of the core: ok | warn | due | insufficient_data
+    life_text: str  # its people-facing description (monitor.life.describe_life)
     input_rate_hz: Mapping[str, float]  # per input topic, over the last period
     input_age_s: Mapping[str, float]  # per input topic, time since the last message; inf = never
     new_faults: int  # input faults counted since the previous report
@@ -58,19 +62,16 @@ class Health:
 def assess(h: Health, t: Thresholds) -> tuple[bytes, str]:
     """Level and one-line message of a unit's status (module docstring lists the rules)."""
     stale = sorted(k for k, age in h.input_age_s.items() if not age <= t.stale_timeout_s)
+    if h.life_status == STATUS_DUE:  # known from the data already integrated: said even when inputs stop
+        quiet = "; no recent input on " + ", ".join(stale) if stale else ""
+        return ERROR, "remaining life " + h.life_text + quiet
     if stale:
         return STALE, "no recent input on " + ", ".join(stale)
     if h.core_error:
         return ERROR, "monitor core failed: " + h.core_error
-    if h.clearance_estimate_m >= h.clearance_limit_m:
-        return ERROR, (f"clearance {h.clearance_estimate_m:.4g} m reached the limit "
-                       f"{h.clearance_limit_m:.4g} m")
     warnings = []
-    if h.clearance_estimate_m >= t.clearance_warn_fraction * h.clearance_limit_m:
-        warnings.append(f"clearance {h.clearance_estimate_m:.4g} m above "
-                        f"{t.clearance_warn_fraction:g} of the limit")
-    if h.cycles_p05 < t.remaining_cycles_warn:
-        warnings.append(f"p05 remaining life {h.cycles_p05:.4g} applications")
+    if h.life_status == STATUS_WARN:
+        warnings.append("remaining life " + h.life_text)
     slow = sorted(k for k, r in h.input_rate_hz.items() if r < t.min_input_rate_hz)
     if slow:
         warnings.append("slow input on " + ", ".join(slow))
@@ -78,6 +79,8 @@ def assess(h: Health, t: Thresholds) -> tuple[bytes, str]:
         warnings.append(f"{h.new_faults} new input faults")
     if warnings:
         return WARN, "; ".join(warnings)
+    if h.life_status == STATUS_INSUFFICIENT:
+        return OK, "remaining life " + h.life_text
     return OK, "ok"
 
 

@@ -14,13 +14,21 @@ from typing import Any
 from builtin_interfaces.msg import Time
 from ebm_wear_msgs.msg import DutyCycle, Float64Stamped, RemainingLife, WearState
 
-from ebm_wear_monitor.monitor import STATUS_INSUFFICIENT, STATUS_LIMIT, CycleSummary, MonitorSnapshot
+from ebm_wear_monitor.monitor import (
+    STATUS_DUE,
+    STATUS_INSUFFICIENT,
+    STATUS_OK,
+    STATUS_WARN,
+    CycleSummary,
+    MonitorSnapshot,
+)
 
 __all__ = ["DutyCycle", "Float64Stamped", "RemainingLife", "WearState", "diagnostic_values", "duty_cycle",
            "remaining_life", "stamp", "wear_state"]
 
-_LIFE_STATUS = {STATUS_INSUFFICIENT: RemainingLife.STATUS_INSUFFICIENT_DATA,
-                STATUS_LIMIT: RemainingLife.STATUS_LIMIT_REACHED}
+_LIFE_STATUS = {STATUS_OK: RemainingLife.STATUS_OK, STATUS_WARN: RemainingLife.STATUS_WARN,
+                STATUS_DUE: RemainingLife.STATUS_DUE,
+                STATUS_INSUFFICIENT: RemainingLife.STATUS_INSUFFICIENT_DATA}
 
 
 def stamp(ns: int | None) -> Time:
@@ -55,16 +63,22 @@ def wear_state(s: MonitorSnapshot) -> WearState:
                     nut_raceway_m=s.wear_nut_m,
                     ball_m=s.wear_ball_m, clearance_model_m=s.clearance_model_m,
                     clearance_estimate_m=s.clearance_estimate_m, clearance_std_m=s.clearance_std_m,
-                    wear_rate_factor=s.wear_rate_factor, wear_rate_factor_std=s.wear_rate_factor_std)
+                    wear_rate_factor=s.wear_rate_factor, wear_rate_factor_std=s.wear_rate_factor_std,
+                    growth_rate_m_per_cycle=s.growth_rate_m_per_cycle,
+                    growth_rate_std_m_per_cycle=s.growth_rate_std_m_per_cycle)
     msg.header.stamp = stamp(s.last_stamp_ns)
     return msg
 
 
 def remaining_life(s: MonitorSnapshot) -> RemainingLife:
     """Wear life (p05/p50/p95 applications to the clearance limit) beside the ISO 3408-5 fatigue life."""
-    msg = RemainingLife(status=_LIFE_STATUS.get(s.life_status, RemainingLife.STATUS_OK), limit_m=s.limit_m,
+    msg = RemainingLife(status=_LIFE_STATUS[s.life_status], limit_m=s.limit_m,
                         clearance_estimate_m=s.clearance_estimate_m, cycles_p05=_num(s.cycles_p05),
                         cycles_p50=_num(s.cycles_p50), cycles_p95=_num(s.cycles_p95),
+                        seconds_p05=_num(s.seconds_p05), seconds_p50=_num(s.seconds_p50),
+                        seconds_p95=_num(s.seconds_p95), usage_span_s=_num(s.usage_span_s),
+                        growth_rate_m_per_cycle=s.growth_rate_m_per_cycle,
+                        growth_rate_std_m_per_cycle=s.growth_rate_std_m_per_cycle,
                         hours_p50=_num(s.hours_p50), applications_per_hour=_num(s.applications_per_hour),
                         fatigue_l10_revolutions=_num(s.fatigue_l10_revolutions),
                         fatigue_cubic_mean_load_n=_num(s.fatigue_cubic_mean_load_n),
@@ -85,6 +99,11 @@ def diagnostic_values(s: MonitorSnapshot) -> dict[str, Any]:
         "wear_rate_factor": s.wear_rate_factor, "wear_rate_factor_std": s.wear_rate_factor_std,
         "remaining_life_status": s.life_status, "remaining_cycles_p05": _num(s.cycles_p05),
         "remaining_cycles_p50": _num(s.cycles_p50), "remaining_cycles_p95": _num(s.cycles_p95),
+        "remaining_seconds_p05": _num(s.seconds_p05), "remaining_seconds_p50": _num(s.seconds_p50),
+        "remaining_seconds_p95": _num(s.seconds_p95), "usage_span_s": _num(s.usage_span_s),
+        "growth_rate_m_per_cycle": s.growth_rate_m_per_cycle,
+        "growth_rate_std_m_per_cycle": s.growth_rate_std_m_per_cycle,
+        "clearance_steps": s.clearance_steps, "growth_changes": s.growth_changes,
         "remaining_hours_p50": _num(s.hours_p50), "fatigue_l10_revolutions": _num(s.fatigue_l10_revolutions),
         "fatigue_remaining_cycles": _num(s.fatigue_remaining_cycles),
         "limiting_mechanism": s.limiting_mechanism, "pending_samples": s.pending_samples,

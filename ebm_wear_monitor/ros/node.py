@@ -39,7 +39,6 @@ Start-up errors (bad parameter, unreadable unit file) print one line
 
 from __future__ import annotations
 
-import math
 import os
 import signal
 import sys
@@ -58,6 +57,7 @@ from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore, MonitorState, l
 from ebm_wear_monitor.monitor.persistence import backup_path
 from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS
 from ebm_wear_monitor.params import UnitParams, load_unit
+from ebm_wear_monitor.reports.life import life_view
 from ebm_wear_monitor.ros import messages
 from ebm_wear_monitor.ros.diagnostics import (
     Health,
@@ -79,6 +79,8 @@ SIGNALS = ("angle", "velocity", "axial_force")
 STATE_FILE = "monitor_state.json"
 #: fault kinds of the core that are normal operation, not a reason to WARN (still shown as key-values)
 BENIGN_FAULTS = frozenset({"out_of_order"})
+#: the remaining life is logged at most this often when its status does not change [s]
+LIFE_LOG_PERIOD_S = 600.0
 
 
 def _check_writable(directory: Path) -> None:
@@ -144,6 +146,7 @@ class WearMonitorNode:
         self.core_error = ""
         self.faults_reported = 0
         self.wrong_type_publishers = 0
+        self.life_status_logged = ""
 
         qos = input_qos(params.qos_reliability == "reliable", params.qos_depth)
         msg_type = messages.Float64Stamped
@@ -182,6 +185,8 @@ class WearMonitorNode:
             self.pub_cycle.publish(messages.duty_cycle(event.cycle))
             self.pub_wear.publish(messages.wear_state(event.snapshot))
             self.publish_remaining_life(event.snapshot)
+        if events:
+            self.log_remaining_life(events[-1].snapshot)
 
     def on_parameters(self, names: set[str]) -> None:
         """A validated parameter change: hand changed core thresholds to the core."""
@@ -190,6 +195,17 @@ class WearMonitorNode:
 
     def publish_remaining_life(self, snap=None) -> None:
         self.pub_life.publish(messages.remaining_life(snap or self.core.snapshot()))
+
+    def log_remaining_life(self, snap) -> None:
+        """Remaining life for people (applications, hours, days): at once when the status changes,
+        else at most every ``LIFE_LOG_PERIOD_S``."""
+        text = (f"{snap.duty_cycles} applications, clearance {snap.clearance_estimate_m * 1e3:.4f} mm; "
+                f"remaining life {_life_line(snap)}")
+        if snap.life_status != self.life_status_logged:
+            self.life_status_logged = snap.life_status
+            self.node.get_logger().info(text)
+        else:
+            self.node.get_logger().info(text, throttle_duration_sec=LIFE_LOG_PERIOD_S)
 
     def close(self) -> None:
         """Shutdown: process what is buffered, then save the state (atomic: temp file, fsync, rename)."""
@@ -216,12 +232,11 @@ class WearMonitorNode:
         ages = {s: b.age_s() for s, b in self.inputs.items()}
         p = self.params
         level, text = assess(
-            Health(clearance_estimate_m=snap.clearance_estimate_m, clearance_limit_m=snap.limit_m,
-                   cycles_p05=math.nan if snap.cycles_p05 is None else snap.cycles_p05,
+            Health(life_status=snap.life_status,
+                   life_text=_life_line(snap),
                    input_rate_hz=rates, input_age_s=ages,
                    new_faults=total - self.faults_reported, core_error=self.core_error),
-            Thresholds(p.stale_timeout_s, p.min_input_rate_hz, p.clearance_warn_fraction,
-                       p.remaining_cycles_warn))
+            Thresholds(p.stale_timeout_s, p.min_input_rate_hz))
         self.faults_reported = total
         self.core_error = ""  # ERROR for the period(s) with a failure; the count stays in core_errors
         ns = self.node.get_namespace()
@@ -232,6 +247,12 @@ class WearMonitorNode:
         values |= {"state_file": str(self.state_path), "state_note": self.state_note} | namespace_parts(ns)
         status = unit_status(self.node.get_fully_qualified_name(), ns.strip("/") or "/", level, text, values)
         self.pub_diag.publish(diagnostic_array(self.node.get_clock().now().to_msg(), [status]))
+
+
+def _life_line(snap) -> str:
+    """The remaining life as people read it (the replay and fleet CLIs print the same line)."""
+    entry = snap.to_json_dict()
+    return life_view(entry["remaining_life"], entry["clearance"]).line()
 
 
 def make_executor(kind: str) -> Executor:

@@ -7,7 +7,8 @@ shipped parameter file ``config/wear_monitor.yaml`` holds the same defaults
 (a test keeps the two equal); it is found at run time by :func:`shipped_config_path`.
 
 Two groups: the node's own parameters (:data:`NODE_SPECS`: files, QoS,
-executor, timers, diagnostics thresholds) and every field of the monitor
+executor, timers, input-health thresholds; the remaining-life thresholds are the unit file's
+``monitor`` block) and every field of the monitor
 core's :class:`~ebm_wear_monitor.monitor.config.MonitorConfig` under the same
 name (:func:`monitor_specs`, from the core's own documentation and ranges), so
 node and ``ebm-wear replay`` share one set of thresholds. Parameters that shape
@@ -83,12 +84,6 @@ NODE_SPECS: tuple[ParamSpec, ...] = (
               runtime=True),
     ParamSpec("min_input_rate_hz", 50.0,
               "an input arriving slower than this makes the status WARN [Hz]", 0.0, 1.0e6, runtime=True),
-    ParamSpec("clearance_warn_fraction", 0.8,
-              "WARN when the clearance estimate exceeds this fraction of the unit's clearance limit [-]",
-              0.0, 1.0, runtime=True),
-    ParamSpec("remaining_cycles_warn", 10000.0,
-              "WARN when the p05 remaining brake applications fall below this [-]", 0.0, 1.0e12,
-              runtime=True),
 )
 #: core parameters fixed at start (the core is built once)
 MONITOR_READ_ONLY = frozenset({"wear_method"})

@@ -42,13 +42,13 @@ SET_PARAMS = textwrap.dedent("""
     client = AsyncParameterClient(node, "/embu/wear_monitor")
     assert client.wait_for_services(timeout_sec=20.0)
     out = []
-    for name, value in [("clearance_warn_fraction", 1.5), ("clearance_warn_fraction", 0.5),
+    for name, value in [("min_input_rate_hz", -1.0), ("min_input_rate_hz", 20.0),
                         ("rest_dwell_s", -1.0), ("rest_dwell_s", 0.1), ("executor", "single_threaded")]:
         future = client.set_parameters([Parameter(name, value=value)])
         rclpy.spin_until_future_complete(node, future, timeout_sec=10.0)
         r = future.result().results[0]
         out.append([name, value, r.successful, r.reason])
-    future = client.get_parameters(["clearance_warn_fraction", "rest_dwell_s"])
+    future = client.get_parameters(["min_input_rate_hz", "rest_dwell_s"])
     rclpy.spin_until_future_complete(node, future, timeout_sec=10.0)
     out.append([v.double_value for v in future.result().values])
     print(json.dumps(out), flush=True)
@@ -64,8 +64,8 @@ def test_thresholds_change_at_run_time_only_to_valid_values(procs, tmp_path) -> 
     *results, current = json.loads(out.strip().splitlines()[-1])
     accepted = [r[2] for r in results]
     assert accepted == [False, True, False, True, False], results
-    assert "clearance_warn_fraction" in results[0][3] and "rest_dwell_s" in results[2][3]
-    assert current == [0.5, 0.1]
+    assert "min_input_rate_hz" in results[0][3] and "rest_dwell_s" in results[2][3]
+    assert current == [20.0, 0.1]
     assert node.poll() is None
 
 

@@ -41,7 +41,7 @@ def test_shipped_parameter_file_never_overrides_a_default_with_a_stale_value() -
 @pytest.mark.parametrize(("name", "value"), [
     ("process_rate_hz", 0.0), ("process_rate_hz", math.inf), ("process_rate_hz", "fast"),
     ("qos_depth", 0), ("qos_depth", 2.5), ("executor", "multi_threaded"), ("wear_method", 3),
-    ("clearance_warn_fraction", 1.5), ("checkpoint_every_cycles", True),
+    ("min_input_rate_hz", -1.0), ("checkpoint_every_cycles", True), ("model_prior_weight", 1.0),
 ])
 def test_out_of_range_or_wrong_type_values_are_rejected_with_the_name(name: str, value: object) -> None:
     reason = check_value(name, value)
@@ -69,12 +69,11 @@ def test_aggregator_config_groups_train_car_embu_namespaces() -> None:
     assert diag.namespace_parts("/embu") == {"embu": "embu"}
 
 
-THRESH = diag.Thresholds(stale_timeout_s=1.0, min_input_rate_hz=50.0, clearance_warn_fraction=0.8,
-                         remaining_cycles_warn=1e4)
+THRESH = diag.Thresholds(stale_timeout_s=1.0, min_input_rate_hz=50.0)
 
 
 def _health(**kw) -> diag.Health:
-    base = dict(clearance_estimate_m=0.2e-3, clearance_limit_m=0.5e-3, cycles_p05=1e6,
+    base = dict(life_status="ok", life_text="ok: p05 1e6 applications",
                 input_rate_hz={"angle": 1000.0}, input_age_s={"angle": 0.01}, new_faults=0)
     return diag.Health(**(base | kw))
 
@@ -83,14 +82,16 @@ def _health(**kw) -> diag.Health:
     ({}, diag.OK),
     ({"input_age_s": {"angle": math.inf}}, diag.STALE),
     ({"input_age_s": {"angle": 2.0}}, diag.STALE),
-    ({"clearance_estimate_m": 0.5e-3}, diag.ERROR),
+    ({"life_status": "due"}, diag.ERROR),  # the remaining-life status sets the level: due -> ERROR
+    ({"life_status": "due", "input_age_s": {"angle": 2.0}}, diag.ERROR),  # ... even with stopped inputs
     ({"core_error": "boom"}, diag.ERROR),
-    ({"clearance_estimate_m": 0.45e-3}, diag.WARN),
-    ({"cycles_p05": 10.0}, diag.WARN),
+    ({"life_status": "warn"}, diag.WARN),
     ({"input_rate_hz": {"angle": 10.0}}, diag.WARN),
     ({"new_faults": 3}, diag.WARN),
-    ({"cycles_p05": math.nan, "clearance_estimate_m": math.nan}, diag.OK),  # insufficient data is no fault
+    ({"life_status": "insufficient_data"}, diag.OK),  # insufficient data is no fault, but it is said
 ])
 def test_levels_follow_the_documented_rules(kw: dict, level: bytes) -> None:
     got, message = diag.assess(_health(**kw), THRESH)
     assert got == level, message
+    if kw.get("life_status", "ok") != "ok" and "input_age_s" not in kw:
+        assert message.startswith("remaining life "), message
