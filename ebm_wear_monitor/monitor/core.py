@@ -39,7 +39,7 @@ from ebm_wear_monitor import physics
 from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, InputAligner
 from ebm_wear_monitor.monitor.config import MonitorConfig
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
-from ebm_wear_monitor.monitor.observation import observe_clearance
+from ebm_wear_monitor.monitor.observation import observe_clearance, pool_lag
 from ebm_wear_monitor.monitor.persistence import save_state
 from ebm_wear_monitor.monitor.segmentation import N_LABELS, Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
@@ -288,7 +288,12 @@ class MonitorCore:
         model = self.model_clearance()
         growth = model - st.model_clearance_at_filter_m
         st.model_clearance_at_filter_m = model
-        observed, observed_std = observe_clearance(seg, self._th, self.config)
+        obs = observe_clearance(seg, self._th, self.config, *self.force_lag())
+        st.force_lag_weight, st.force_lag_weighted_sum = pool_lag(
+            st.force_lag_weight, st.force_lag_weighted_sum, obs.lag_s, obs.lag_var_s2)
+        if math.isfinite(obs.lag_s):  # this application's own lag is in the pool now: use it too
+            obs = observe_clearance(seg, self._th, self.config, *self.force_lag())
+        observed, observed_std = obs.clearance_m, obs.std_m
         self._fuse(growth, observed, observed_std)
         estimate, estimate_std = self._tracker.live.clearance()
         rate, rate_std, factor, factor_std = self._growth_rate()
@@ -339,6 +344,14 @@ class MonitorCore:
         return rate, rate_std, math.nan, math.nan
 
     # ------------------------------------------------------------------ results
+    def force_lag(self) -> tuple[float, float]:
+        """The force sensor's lag estimated from the applications so far, and its variance [s], [s^2]
+        (observation.py; (0, 0) before any estimate)."""
+        st = self._st
+        if st.force_lag_weight <= 0.0:
+            return 0.0, 0.0
+        return st.force_lag_weighted_sum / st.force_lag_weight, 1.0 / st.force_lag_weight
+
     def model_clearance(self) -> float:
         """Axial clearance predicted by the wear model: nominal x_ag + clearance_growth(wear) [m]."""
         st = self._st

@@ -24,10 +24,19 @@ FG -> FM              |omega| < omega_off
 FG, FM -> FR          omega < -omega_on
 FM, FR -> FG          omega > omega_on (and F - b > force_on from FR): a stepped
                       or repeated demand re-enters force generation
-CE, FR -> rest        stopped (|omega| < omega_off) for rest_dwell_s
+CE -> rest            stopped and F - b < force_off for rest_dwell_s (an approach
+                      that stops in contact is force generation, not a rest)
+FR -> rest            stopped (|omega| < omega_off) for rest_dwell_s
 FM -> rest            stopped and F - b < force_off for rest_dwell_s (force lost
                       without a release motion)
 ====================  =========================================================
+
+The rest angle of an application (the release rest position its clearance is
+counted from, observation.py) is the median angle over the last rest samples
+before it, except after an approach that stopped short of the pads
+(``incomplete``: a controller easing in, then a force trim, perhaps creeping
+into contact below the moving threshold): the clearance is still counted from
+the home position before that approach, and the force level b is that rest's.
 
 The rest level b (offset of the force sensor, the ``force_sensor_bias`` of the
 effect catalog) is the median force over the last rest samples before the
@@ -144,6 +153,8 @@ class Segmenter:
         self._open = _Open(np.nan, self.force_baseline)
         self._ring = np.empty(0)  # angles of the latest rest samples [rad]
         self._ring_force = np.empty(0)  # their forces [N]
+        self._home = (np.nan, np.nan)  # rest angle [rad] and force level [N] before an approach that
+        # stopped short of the pads
         self._carry: AlignedBatch | None = None
         self._prev_ns: int | None = None
         self._prev_angle = 0.0
@@ -193,6 +204,9 @@ class Segmenter:
         dtypes = (*(np.float64,) * 5, np.int8)
         arrays = [np.concatenate([part[j] for part in seg.parts]) if seg.parts else np.empty(0, d)
                   for j, d in enumerate(dtypes)]
+        # an approach that stopped short of the pads (incomplete) leaves the home position where it
+        # was: the next application's clearance is counted from there, not from the stop on the way
+        self._home = (seg.rest_angle, seg.baseline) if kind == "incomplete" else (np.nan, np.nan)
         out.append(Segment(kind, seg.start_ns, end_ns, seg.phase_ns, *arrays,
                            peak_force=float(seg.peak_force), angle_at_peak_force=seg.angle_at_peak,
                            rest_angle=seg.rest_angle, force_baseline=seg.baseline))
@@ -313,7 +327,7 @@ class Segmenter:
 
     def _on_gap(self, end_ns: int, out: list[Segment]) -> None:
         """A gap: no knowledge of what happened in it. Close any segment and resynchronise."""
-        self._ring, self._ring_force = np.empty(0), np.empty(0)
+        self._ring, self._ring_force, self._home = np.empty(0), np.empty(0), (np.nan, np.nan)
         if self.state == REST:
             return
         self._close(end_ns, "interrupted" if self.state in ACTIVE else "motion", out)
@@ -321,9 +335,14 @@ class Segmenter:
 
     def _start(self, s: int) -> None:
         """Leave rest at sample ``s``: a new application (apply direction) or other motion."""
-        if self._ring.size:
-            self.force_baseline = float(np.median(self._ring_force))
-        rest_angle = float(np.median(self._ring)) if self._ring.size else np.nan
+        if np.isfinite(self._home[0]) and self._s["velocity"][s] > 0:
+            # an apply move continuing an approach that stopped short (maybe creeping into contact since):
+            # home angle and force level from the rest before that approach
+            rest_angle, self.force_baseline = self._home
+        else:
+            if self._ring.size:
+                self.force_baseline = float(np.median(self._ring_force))
+            rest_angle = float(np.median(self._ring)) if self._ring.size else np.nan
         self._open = _Open(rest_angle, self.force_baseline)
         self._ring, self._ring_force = np.empty(0), np.empty(0)
         self.state = CE if self._s["velocity"][s] > 0 else MOTION
@@ -379,7 +398,9 @@ class Segmenter:
                 return self._settle(p, r, nf("i_notreleased", r), out)
             self._consume(p, e, FM)
             return e, False
-        r = nx("i_slow", p)
+        # CE ends at a stop with the force released: a slow approach that stops in contact (a position
+        # loop easing in, a force trim) is force generation, never a rest beside the pads
+        r = nf("i_released", p) if st == CE else nx("i_slow", p)
         if st in _TO_FG:  # CE: force onset; FR: a new apply move under force
             g = nf(_TO_FG[st], p)
             if g < min(r, e):
@@ -393,7 +414,8 @@ class Segmenter:
                 p, seg = r, self._open
                 released = self._s["force"][r] - seg.baseline < self.th.force_off
                 accept = seg.last_direction < 0 or (seg.last_direction == 0 and released)
-            return self._settle(p, r, nx("i_notslow", r), out, accept)
+            run_end = nf("i_notreleased", r) if st == CE else nx("i_notslow", r)
+            return self._settle(p, r, run_end, out, accept)
         self._consume(p, e, st)
         return e, False
 

@@ -54,6 +54,8 @@ class MonitorState:
     last_stamp_ns: int | None = None  # end of the last closed segment [ns]: data up to it is integrated
     input_faults: dict[str, dict[str, int]] = field(default_factory=dict)  # per topic (and "stream")
     force_baseline_n: float = 0.0  # rest level (offset) of the force sensor [N], segmentation.py
+    force_lag_weight: float = 0.0  # pooled force-sensor lag, observation.py: sum 1/var [1/s^2]
+    force_lag_weighted_sum: float = 0.0  # ... sum tau/var [1/s]
     version: int = STATE_VERSION
 
     def to_dict(self) -> dict[str, Any]:
@@ -80,9 +82,12 @@ class MonitorState:
             v = getattr(state, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise StateError(f"{name}: expected a finite number >= 0, got {v!r}")
-        b = state.force_baseline_n
-        if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b):
-            raise StateError(f"force_baseline_n: expected a finite number, got {b!r}")
+        for name in ("force_baseline_n", "force_lag_weighted_sum", "force_lag_weight"):
+            b = getattr(state, name)
+            if isinstance(b, bool) or not isinstance(b, (int, float)) or not math.isfinite(b):
+                raise StateError(f"{name}: expected a finite number, got {b!r}")
+        if state.force_lag_weight < 0.0:
+            raise StateError(f"force_lag_weight: expected >= 0, got {state.force_lag_weight!r}")
         for name in ("first_cycle_ns", "last_cycle_ns", "last_stamp_ns"):
             v = getattr(state, name)
             if v is not None and (isinstance(v, bool) or not isinstance(v, int)):

@@ -15,16 +15,20 @@ APPLICATION_COLUMNS: dict[str, str] = {
     "ball_m": "cumulative wear depth (radius loss) of the balls [m]",
     "clearance_model_m": "axial clearance x_ag predicted by the wear model [m]",
     "clearance_observed_m": "axial clearance x_ag observed in this application, NaN if not observable [m]",
+    "clearance_observed_std_m": "its 1-sigma error budget (observation.py), NaN if not observable [m]",
     "clearance_estimate_m": "Kalman-filtered axial clearance x_ag [m]",
     "clearance_std_m": "one standard deviation of the estimate [m]",
     "cycles_p05": "remaining brake applications to the clearance limit, 5th percentile [-]",
     "cycles_p50": "... median [-]",
     "cycles_p95": "... 95th percentile [-]",
+    "life_status": "remaining-life status after this application: ok | warn | due | insufficient_data",
+    "growth_rate_m_per_cycle": "learned clearance growth per application after this one [m]",
+    "growth_rate_std_m_per_cycle": "its 1-sigma [m]",
     "peak_force_n": "peak axial force of the application [N]",
     "screw_wear_increment_m": "wear depth of the screw raceway added by this application [m]",
     "nut_wear_increment_m": "... of the nut raceway [m]",
     "ball_wear_increment_m": "... of the balls [m]",
-    "wear_rate_factor": "filter's correction of the model wear rate after this application [-]",
+    "wear_rate_factor": "learned clearance growth over the wear model's mean growth per application [-]",
 }
 
 

@@ -18,6 +18,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor.bagio import BagReader, Recording, Signal, UnitData, read_ground_truth
@@ -55,7 +56,11 @@ class ReplayResult:
 def _row(cycle: CycleSummary, snap: MonitorSnapshot | None) -> dict:
     row = {"index": cycle.index, "stamp_s": cycle.end_s, "clearance_model_m": cycle.clearance_model_m,
            "clearance_observed_m": cycle.clearance_observed_m,
+           "clearance_observed_std_m": cycle.clearance_observed_std_m,
            "clearance_estimate_m": cycle.clearance_estimate_m, "clearance_std_m": cycle.clearance_std_m,
+           "growth_rate_m_per_cycle": cycle.growth_rate_m_per_cycle,
+           "growth_rate_std_m_per_cycle": cycle.growth_rate_std_m_per_cycle,
+           "life_status": snap.life_status if snap is not None else None,
            "peak_force_n": cycle.peak_force_n,
            "screw_wear_increment_m": sum(cycle.screw_wear_m), "nut_wear_increment_m": sum(cycle.nut_wear_m),
            "ball_wear_increment_m": sum(cycle.ball_wear_m), "wear_rate_factor": cycle.wear_rate_factor}
@@ -132,8 +137,9 @@ def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
     if truth is None or truth.get("eol_cycles") is None:
         return None
     since_new = applications["index"].to_numpy(float) + float(truth.get("cycles_at_start") or 0)
-    rul = applications["cycles_p50"].to_numpy(float)
-    return prognostics_metrics(since_new, rul, float(truth["eol_cycles"]))
+    p05, p50, p95 = (applications[f"cycles_{q}"].to_numpy(float) for q in ("p05", "p50", "p95"))
+    issued = np.where(np.isfinite(p95), p50, np.nan)  # with p95 unbounded a median is a bound, no forecast
+    return prognostics_metrics(since_new, issued, float(truth["eol_cycles"]), rul_p05=p05, rul_p95=p95)
 
 
 def truth_by_namespace(units: dict[str, list[Path]] | Recording) -> dict[str, dict]:
