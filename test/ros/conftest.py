@@ -29,38 +29,41 @@ STIFFNESS = 4.16e7  # K_b [N/m], same file
 
 
 def brake_applications(n_cycles: int, rate_hz: float, peak_force_n: float = 20.0e3,
-                       rest_s: float = 0.4) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+                       rest_s: float = 0.4, growth_m: float = 0.0) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Closed-form duty cycles of 000 Fig. 2 sampled at ``rate_hz``: (t [s], {signal: values}).
 
     Each application: rest, clearance elimination at constant screw speed (no force),
     force generation (F = K_b (x - x_ag), x = l theta / 2 pi, 004 eq. 6), force
     maintenance at standstill, force release back to the rest angle, rest.
-    Durations: 0.1, 0.2, 0.3, 0.2 s; signals are exact functions of time.
+    Durations: 0.1, 0.2, 0.3, 0.2 s; signals are exact functions of time. The clearance of
+    application k (0-based) is x_ag = CLEARANCE + k ``growth_m``.
     """
-    x_peak = CLEARANCE + peak_force_n / STIFFNESS  # nut travel at peak force [m]
-    theta_c = 2 * np.pi * CLEARANCE / LEAD  # screw angle at contact [rad]
-    theta_p = 2 * np.pi * x_peak / LEAD  # screw angle at peak force [rad]
     knots_t = np.cumsum([0.0, rest_s, 0.1, 0.2, 0.3, 0.2, rest_s])
-    knots_theta = np.array([0.0, 0.0, theta_c, theta_p, theta_p, 0.0, 0.0])
+    to_contact = np.array([0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0])  # share of theta_c at each knot
+    to_peak = np.array([0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0])  # share of the compression at each knot
     period = knots_t[-1]
     t = np.arange(round(n_cycles * period * rate_hz)) / rate_hz + 1000.0  # stamps from 1000 s
-    phase_t = (t - 1000.0) % period
-    theta = np.interp(phase_t, knots_t, knots_theta)
+    k, phase_t = np.divmod(t - 1000.0, period)
+    x_ag = CLEARANCE + growth_m * k
+    theta_c = 2 * np.pi * x_ag / LEAD  # screw angle at contact [rad]
+    squeeze = 2 * np.pi * peak_force_n / STIFFNESS / LEAD  # screw angle from contact to peak force [rad]
+    theta = theta_c * np.interp(phase_t, knots_t, to_contact) + squeeze * np.interp(phase_t, knots_t, to_peak)
     seg = np.clip(np.searchsorted(knots_t, phase_t, side="right") - 1, 0, len(knots_t) - 2)
-    omega = np.diff(knots_theta)[seg] / np.diff(knots_t)[seg]
-    force = np.maximum(0.0, STIFFNESS * (LEAD * theta / (2 * np.pi) - CLEARANCE))
+    dt = np.diff(knots_t)[seg]
+    omega = (theta_c * np.diff(to_contact)[seg] + squeeze * np.diff(to_peak)[seg]) / dt
+    force = np.maximum(0.0, STIFFNESS * (LEAD * theta / (2 * np.pi) - x_ag))
     return t, {"angle": theta, "velocity": omega, "axial_force": force}
 
 
 @pytest.fixture
 def make_bag(tmp_path: Path):
-    """``make_bag(n_cycles, rate_hz, name, namespace='/embu', mutate=None) -> (bag path, signals)``.
+    """``make_bag(n_cycles, rate_hz, name, namespace='/embu', mutate=None, growth_m=0) -> (bag, signals)``.
 
     ``mutate(t, signals) -> {signal: Series | values}`` lets a test corrupt the samples.
     """
     def _make(n_cycles: int, rate_hz: float = 500.0, name: str = "bag", namespace: str = "/embu",
-              mutate=None):
-        t, signals = brake_applications(n_cycles, rate_hz)
+              mutate=None, growth_m: float = 0.0):
+        t, signals = brake_applications(n_cycles, rate_hz, growth_m=growth_m)
         data = mutate(t, signals) if mutate else signals
         path = tmp_path / name
         write_unit_bag(path, t, {namespace: data}, storage="sqlite3")
