@@ -65,7 +65,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.stats import chi2
+from scipy.special import ndtri
 
 from ebm_wear_monitor.monitor.config import MonitorConfig
 from ebm_wear_monitor.monitor.kalman import DIM, Bank, Hypotheses
@@ -83,8 +83,10 @@ _NO_Y = np.zeros(0)
 
 @functools.lru_cache(maxsize=8)
 def _thresholds(alpha: float, window: int) -> tuple[float, float]:
-    """GLR thresholds h_1, h_2: chi-square quantiles at alpha / W (module docstring, item 3)."""
-    return float(chi2.isf(alpha / window, 1)), float(chi2.isf(alpha / window, 2))
+    """GLR thresholds h_1, h_2: chi-square quantiles at alpha / W (module docstring, item 3), in closed
+    form: chi2_1 = z^2 with z the normal quantile at alpha / 2W; chi2_2 is exponential, -2 ln(alpha / W)."""
+    p = alpha / window
+    return float(ndtri(0.5 * p) ** 2), -2.0 * math.log(p)
 
 
 @dataclass

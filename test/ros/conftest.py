@@ -28,8 +28,8 @@ CLEARANCE = 0.2e-3  # x_ag [m], same file
 STIFFNESS = 4.16e7  # K_b [N/m], same file
 
 
-def brake_applications(n_cycles: int, rate_hz: float, peak_force_n: float = 20.0e3,
-                       rest_s: float = 0.4, growth_m: float = 0.0) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def brake_applications(n_cycles: int, rate_hz: float, peak_force_n: float = 20.0e3, rest_s: float = 0.4,
+                       *, growth_m: float = 0.0) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Closed-form duty cycles of 000 Fig. 2 sampled at ``rate_hz``: (t [s], {signal: values}).
 
     Each application: rest, clearance elimination at constant screw speed (no force),
@@ -62,7 +62,7 @@ def make_bag(tmp_path: Path):
     ``mutate(t, signals) -> {signal: Series | values}`` lets a test corrupt the samples.
     """
     def _make(n_cycles: int, rate_hz: float = 500.0, name: str = "bag", namespace: str = "/embu",
-              mutate=None, growth_m: float = 0.0):
+              mutate=None, *, growth_m: float = 0.0):
         t, signals = brake_applications(n_cycles, rate_hz, growth_m=growth_m)
         data = mutate(t, signals) if mutate else signals
         path = tmp_path / name

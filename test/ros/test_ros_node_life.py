@@ -12,7 +12,6 @@ hundred. The status is the core's, the same the offline replay gives on the bag.
 from __future__ import annotations
 
 import pytest
-
 import yaml
 
 from ebm_wear_monitor.bagio.reader import read_bags
