@@ -15,12 +15,20 @@ import numpy as np
 from . import life
 from .ecu import VARIANTS, EcuConfig
 from .effects import CATALOG, FORMS, OUTSIDE
-from .sensors import TOPICS, Acquisition, Clock
+from .sensors import TOPICS, Acquisition, Clock, asynchronous_pwm
 from .simulate import Schedule
 from .unit import Actuator
 
 KINDS = ("none", "effect", "pair", "outside", "life", "multirate")
 RATES = (200.0, 250.0, 500.0, 1000.0, 2000.0)
+RATE_FACTORS = (0.5, 1.0, 2.0)  # a topic's rate relative to the recording's base rate [-]
+RATE_RANGE = (200.0, 2000.0)  # every topic rate is clipped into this range [Hz]
+#: Every rate a topic clock can have [Hz].
+TOPIC_RATES = tuple(sorted({float(np.clip(r * m, *RATE_RANGE)) for r in RATES for m in RATE_FACTORS}))
+#: Ranges of the velocity estimators' parameters: low-pass tau [s], moving-average window [s]
+#: (N = max(2, round(window rate)) samples), observer natural frequency [rad/s].
+VELOCITY_PARAMS = {"derivative": (0.5e-3, 3e-3), "moving_average": (2e-3, 10e-3),
+                   "tracking": (150.0, 600.0)}
 FRAME_IDS = ("resolver", "embu_ecu", "load_cell", "base_link", "screw_encoder", "motor_drive",
              "adc0", "brake_unit_2", "caliper_frame", "ecu/current_sense")
 
@@ -101,13 +109,18 @@ def draw_clocks(rng: np.random.Generator, rates: tuple[float, ...] | None, min_d
         if rng.random() < 0.5:
             rates = (base,) * 4
         else:
-            rates = tuple(float(np.clip(base * rng.choice([0.5, 1.0, 2.0]), 200.0, 2000.0))
+            rates = tuple(float(np.clip(base * rng.choice(RATE_FACTORS), *RATE_RANGE))
                           for _ in TOPICS)
     frames = rng.permutation(len(FRAME_IDS))
     return {topic: Clock(rate=r, phase=_u(rng, 0, min(1.0 / r, 1e-3)),
                          jitter=_u(rng, 0.005 / r, 0.05 / r), drops=int(rng.integers(min_drops, 6)),
                          frame_id=FRAME_IDS[frames[k]])
             for k, (topic, r) in enumerate(zip(TOPICS, rates, strict=True))}
+
+
+def window_samples(window: float, rate: float) -> float:
+    """Moving-average length [samples] of a ``window`` [s] at ``rate`` [Hz] (at least 2)."""
+    return float(max(2, round(window * rate)))
 
 
 def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock], lag_max: float = 2e-3
@@ -117,16 +130,19 @@ def draw_acquisition(rng: np.random.Generator, clocks: dict[str, Clock], lag_max
     bits = int(rng.integers(16, 21) if side == "screw" else rng.integers(12, 17))
     kind = str(rng.choice(["derivative", "moving_average", "tracking"]))
     v_rate = clocks["screw/velocity"].rate
-    param = {"derivative": _u(rng, 0.5e-3, 3e-3),
-             "moving_average": float(max(2, round(_u(rng, 2e-3, 10e-3) * v_rate))),
-             "tracking": _u(rng, 150.0, 600.0)}[kind]
+    drawn = {name: _u(rng, *VELOCITY_PARAMS[name]) for name in VELOCITY_PARAMS}  # all three drawn
+    param = window_samples(drawn[kind], v_rate) if kind == "moving_average" else drawn[kind]
     lag_min = _u(rng, 0.0, 0.25 * lag_max)
+    offset, tare, noise_F = _u(rng, -1e3, 1e3), _u(rng, -400, 400), _u(rng, 5, 40)
+    lsb_F = float(rng.choice([1.0, 2.0, 5.0]))
+    current_kind = str(rng.choice(["instant", "centered", "average"]))
+    f_pwm = float(rng.choice([8e3, 16e3, 20e3]))  # nominal; an instant sampler is asynchronous
+    if current_kind == "instant":
+        f_pwm = asynchronous_pwm(f_pwm, clocks["motor/current"].rate)
     return Acquisition(
-        clocks=clocks, encoder_side=side, encoder_bits=bits, encoder_offset=_u(rng, -1e3, 1e3),
-        velocity_kind=kind, velocity_param=param, tare=_u(rng, -400, 400),
-        noise_F=_u(rng, 5, 40), lsb_F=float(rng.choice([1.0, 2.0, 5.0])),
-        current_kind=str(rng.choice(["instant", "centered", "average"])),
-        f_pwm=float(rng.choice([8e3, 16e3, 20e3])), noise_I=_u(rng, 0.003, 0.03),
+        clocks=clocks, encoder_side=side, encoder_bits=bits, encoder_offset=offset,
+        velocity_kind=kind, velocity_param=param, tare=tare, noise_F=noise_F, lsb_F=lsb_F,
+        current_kind=current_kind, f_pwm=f_pwm, noise_I=_u(rng, 0.003, 0.03),
         lsb_I=float(rng.choice([0.001, 0.005, 0.01])), lag_min=lag_min,
         lag_max=_u(rng, 0.5 * lag_max, lag_max))
 

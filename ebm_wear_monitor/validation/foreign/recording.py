@@ -20,7 +20,13 @@ from .unit import REFERENCE_UNIT, Actuator, load_actuator
 
 GENERATOR = "ebm_wear_monitor.validation.foreign"
 UNIT_YAML = "unit.yaml"  # unit file written beside a life history (inside its bag directory)
-VERSION = 1
+VERSION = 2  # 2: stable tracking observer at every rate, asynchronous instant current sampling
+#: Carrier phase of a current sample by sampling convention (``sensors.current``).
+CARRIER_PHASE = {
+    "instant": "asynchronous: frac(phi_0 + pwm_hz t + psi(t)), pwm_hz / rate = integer + golden "
+               "fraction, psi a random walk; the ripple is zero-mean noise",
+    "centered": "PWM centre (triggered by the carrier): no ripple",
+    "average": "mean over the control period: no ripple"}
 
 
 def physics_of(case: Case, act: Actuator, recipe: Recipe, rng: np.random.Generator
@@ -41,11 +47,13 @@ def acquire(act: Actuator, recipe: Recipe, tr: Trajectory, rng: np.random.Genera
     out = {}
     for topic in sensors.TOPICS:
         clock = acq.clocks[topic]
-        t = sensors.sample_times(clock, duration, rng)
+        ticks, delivered = sensors.sample_times(clock, duration, rng)
+        t = ticks[delivered]
         if topic == "screw/angle":
             value = sensors.encoder(acq, tr, t, act.i_g)
-        elif topic == "screw/velocity":
-            value = sensors.velocity(acq, sensors.encoder(acq, tr, t, act.i_g), clock.rate)
+        elif topic == "screw/velocity":  # estimated on the device at every tick, then dropped
+            value = sensors.velocity(acq, sensors.encoder(acq, tr, ticks, act.i_g),
+                                     clock.rate)[delivered]
         elif topic == "axial_force":
             value = sensors.force(acq, tr, t, rng)
         else:
@@ -116,7 +124,10 @@ def ground_truth(case: Case, act: Actuator, recipe: Recipe, tr: Trajectory, *, c
         "force": {"tare_N": acq.tare, "lag_s": recipe.cell_lag, "noise_std_N": acq.noise_F,
                   "lsb_N": acq.lsb_F},
         "current": {"sampling": acq.current_kind, "pwm_hz": acq.f_pwm, "noise_std_A": acq.noise_I,
-                    "lsb_A": acq.lsb_I, "average_period_s": 1.0 / recipe.ecu.rate},
+                    "lsb_A": acq.lsb_I, "average_period_s": 1.0 / recipe.ecu.rate,
+                    "carrier_phase": CARRIER_PHASE[acq.current_kind],
+                    "phase_drift_cycles_per_sqrt_s": sensors.PWM_PHASE_DIFFUSION
+                    if acq.current_kind == "instant" else None},
         "applications": {
             "demand_N": sched.demand.tolist(), "hold_s": sched.hold.tolist(),
             "reference_error_screw_rad": sched.eps.tolist(),
@@ -146,6 +157,25 @@ def unit_yaml(unit: Path, limit: float) -> str:
     return yaml.safe_dump(doc, sort_keys=False)
 
 
+def _seeds(case: Case) -> list[np.random.SeedSequence]:
+    """Seeds of the effects, the simulation and the acquisition of ``case``."""
+    return np.random.SeedSequence([case.seed, 0x5EED]).spawn(3)
+
+
+def simulate_case(case: Case, unit: str | Path = REFERENCE_UNIT
+                  ) -> tuple[Actuator, Recipe, Physics, list[dict], Trajectory]:
+    """Draw the world of ``case`` and simulate its true trajectory (the first stage of
+    :func:`write_case`): ``(actuator, recipe, effect hooks, effect records, trajectory)``."""
+    act = load_actuator(Path(unit))
+    recipe = realize(case, act)
+    act = act.with_(clearance_limit=recipe.limit)
+    seeds = _seeds(case)
+    phys, effects = physics_of(case, act, recipe, np.random.default_rng(seeds[0]))
+    tr = simulate(act, phys, recipe.ecu, recipe.schedule, cell_lag=recipe.cell_lag,
+                  seed=int(np.random.default_rng(seeds[1]).integers(2**31)))
+    return act, recipe, phys, effects, tr
+
+
 def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNIT,
                timings: dict[str, float] | None = None) -> Path:
     """Generate ``case`` into ``out_dir/<case_id>`` (rosbag2 + ``ground_truth.json``, and
@@ -156,16 +186,10 @@ def write_case(case: Case, out_dir: str | Path, unit: str | Path = REFERENCE_UNI
     """
     t0 = time.perf_counter()
     unit = Path(unit)
-    act = load_actuator(unit)
-    recipe = realize(case, act)
-    act = act.with_(clearance_limit=recipe.limit)
-    seeds = np.random.SeedSequence([case.seed, 0x5EED]).spawn(3)
-    phys, effects = physics_of(case, act, recipe, np.random.default_rng(seeds[0]))
-    tr = simulate(act, phys, recipe.ecu, recipe.schedule, cell_lag=recipe.cell_lag,
-                  seed=int(np.random.default_rng(seeds[1]).integers(2**31)))
+    act, recipe, phys, effects, tr = simulate_case(case, unit)
     t1 = time.perf_counter()
     clearance = recipe.schedule.x_ag + (0.0 if phys.clearance_extra is None else phys.clearance_extra)
-    samples = acquire(act, recipe, tr, np.random.default_rng(seeds[2]))
+    samples = acquire(act, recipe, tr, np.random.default_rng(_seeds(case)[2]))
     truth = ground_truth(case, act, recipe, tr, clearance=np.asarray(clearance, dtype=float),
                          effects=effects, samples=samples, unit=unit)
     topics = {f"{recipe.namespace}/{topic}": (s["stamp_ns"], s["log_ns"], s["value"],
