@@ -22,7 +22,8 @@ setup(
     version="0.1.0",
     packages=find_packages(exclude=["test", "test.*", "bench"]),
     package_data={PACKAGE: ["params/reference/*.yaml", "validation/foreign/README.md",
-                            "reports/templates/*.html", "reports/style.css"]},
+                            "reports/templates/*.html", "reports/style.css",
+                            "schema/json/*.schema.json"]},
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),

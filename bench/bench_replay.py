@@ -99,7 +99,7 @@ def ratios(args) -> None:
             raw, bulk, rep = count / raw_s, count / bulk_s, count / rep_s
             print(f"{storage}: raw read (rosbags) {raw / 1e3:.0f} k msg/s | bulk read {bulk / 1e3:.0f} k "
                   f"msg/s ({bulk / raw:.2f}x) | replay {rep / 1e3:.0f} k msg/s, "
-                  f"{res.units[0].summary['duty_cycles']} applications\n"
+                  f"{res.units[0].snapshot.duty_cycles} applications\n"
                   f"    replay / raw read = {rep / raw:.2f} wall time, {raw_cpu / rep_cpu:.2f} CPU time "
                   "(target >= 1.5)")
 

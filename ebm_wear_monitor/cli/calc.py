@@ -95,7 +95,8 @@ def run(args: argparse.Namespace) -> int:
         from ebm_wear_monitor.twin import actuator_torques
         check_axial_force(args.clamp_force, "clamp force", allow_zero=True)
         result = actuator_torques(unit, args.clamp_force)
+    doc = result.to_json_dict()
     if args.json:
-        write_json(args.json, result)
-    _print(result)
+        write_json(args.json, doc)
+    _print(doc)
     return 0

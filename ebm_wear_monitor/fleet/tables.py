@@ -26,6 +26,9 @@ import pandas as pd
 
 from ebm_wear_monitor.fleet.manifest import Manifest
 from ebm_wear_monitor.outputs import atomic_write, write_json
+from ebm_wear_monitor.schema import json_row
+from ebm_wear_monitor.schema.monitor import STATUS_INSUFFICIENT, MonitorSnapshot
+from ebm_wear_monitor.schema.replay import Prognostics, ReplayEntry
 
 SUMMARY_COLUMNS = ["rank", "unit", "status", "cycles_p05", "cycles_p50", "cycles_p95", "clearance_estimate_m",
                    "clearance_std_m", "limit_m", "clearance_fraction", "duty_cycles", "input_faults_total",
@@ -48,21 +51,16 @@ class FleetTables:
 
 
 def flatten(entry: dict) -> dict:
-    """One units-table row from a section 4 entry (plus the fleet's extra keys)."""
-    row = {"unit": entry["unit"], "duty_cycles": entry["duty_cycles"], **entry["wear"]}
-    row.update({f"clearance_{k}": v for k, v in entry["clearance"].items()})
-    row.update(entry["remaining_life"])
-    row.setdefault("status", "insufficient_data")
-    est, limit = row.get("clearance_estimate_m"), row.get("limit_m")
+    """One units-table row from a section 4 entry (columns declared in schema/: ``units``), plus the
+    fleet's own: ``clearance_fraction``, the bag count."""
+    row = json_row("units", ReplayEntry, entry) | json_row("units", MonitorSnapshot, entry)
+    if row["status"] is None:
+        row["status"] = STATUS_INSUFFICIENT
+    est, limit = row["clearance_estimate_m"], row["limit_m"]
     row["clearance_fraction"] = est / limit if est is not None and limit else None
-    faults = entry.get("input_faults", {})
-    row["input_faults_total"] = sum(faults.values())
-    row["input_faults"] = json.dumps(faults, sort_keys=True)
-    row["input_faults_by_signal"] = json.dumps(entry.get("input_faults_by_signal", {}), sort_keys=True)
     row["bags"] = len(entry.get("bags", []))
-    row["messages"] = entry.get("messages", 0)
-    for key, value in (entry.get("prognostics") or {}).items():
-        row[f"prognostics_{key}"] = value
+    if entry.get("prognostics") is not None:
+        row |= json_row("units", Prognostics, entry["prognostics"])
     return row
 
 

@@ -16,7 +16,8 @@ Data flow (each step in its own module)::
              clearance observation         observation.py
              filter bank step              kalman.py / tracker.py: predict with the model growth, fuse
                                            the observation (gate, steps, rate changes)
-      -> CycleSummary per application; snapshot() for totals, remaining life (life.py), faults.
+      -> CycleSummary per application; snapshot() for totals, remaining life (life.py), faults
+         (both records declared, with every output they generate, in schema/monitor.py).
 
 Identical numbers for node and replay hold by construction: every decision
 depends on the per-topic arrival order and the values only, and every float sum
@@ -29,7 +30,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -44,44 +44,11 @@ from ebm_wear_monitor.monitor.persistence import save_state
 from ebm_wear_monitor.monitor.segmentation import N_LABELS, Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
 from ebm_wear_monitor.monitor.tracker import REJECTED, ClearanceTracker
-from ebm_wear_monitor.outputs import jsonable
 from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.schema.monitor import CycleSummary, MonitorSnapshot
 
 WearRatesFn = Callable[[np.ndarray, np.ndarray], Any]  # (F [N], omega [rad/s]) -> (screw, nut, ball) [m/s]
 GrowthFn = Callable[[float, float, float], float]  # (screw, nut, ball wear [m]) -> clearance growth [m]
-
-
-@dataclass(frozen=True)
-class CycleSummary:
-    """One completed brake application (the content of a ``DutyCycle`` message). SI units."""
-
-    index: int  # 1-based application count since the unit was new
-    start_ns: int  # start of clearance elimination [ns]
-    end_ns: int  # back at rest after force release [ns]
-    phase_durations_s: tuple[float, float, float, float]  # in the order of segmentation.PHASES [s]
-    peak_force_n: float  # [N]
-    peak_speed_rad_s: float  # peak |omega| [rad/s]
-    stroke_rad: float  # screw rotation from the rest position to peak force [rad] (NaN: rest unknown)
-    screw_wear_m: tuple[float, float, float, float]  # wear-depth increment per phase [m]
-    nut_wear_m: tuple[float, float, float, float]
-    ball_wear_m: tuple[float, float, float, float]
-    clearance_observed_m: float  # NaN when not observable [m]
-    clearance_observed_std_m: float  # its 1-sigma (NaN when not observable) [m]
-    clearance_model_m: float  # model clearance after the application [m]
-    clearance_estimate_m: float  # filtered clearance after the application [m]
-    clearance_std_m: float  # [m]
-    growth_rate_m_per_cycle: float  # learned clearance growth per application (the next one) [m]
-    growth_rate_std_m_per_cycle: float  # its 1-sigma [m]
-    wear_rate_factor: float  # learned growth over the model's mean growth per application [-] (NaN: none)
-    wear_rate_factor_std: float
-
-    @property
-    def start_s(self) -> float:
-        return self.start_ns * 1e-9
-
-    @property
-    def end_s(self) -> float:
-        return self.end_ns * 1e-9
 
 
 class Application(NamedTuple):
@@ -89,79 +56,6 @@ class Application(NamedTuple):
 
     cycle: CycleSummary
     snapshot: MonitorSnapshot | None  # None when asked for the cycles only (MonitorCore.process)
-
-
-@dataclass(frozen=True)
-class MonitorSnapshot:
-    """Totals now (the content of ``wear``, ``remaining_life`` and diagnostics). SI units, None = unknown."""
-
-    duty_cycles: int
-    wear_screw_m: float
-    wear_nut_m: float
-    wear_ball_m: float
-    clearance_model_m: float
-    clearance_estimate_m: float
-    clearance_std_m: float
-    growth_rate_m_per_cycle: float  # learned clearance growth per application [m]
-    growth_rate_std_m_per_cycle: float
-    wear_rate_factor: float  # growth_rate / the model's mean growth per application [-]
-    wear_rate_factor_std: float
-    observations: int
-    clearance_steps: int  # steps of the clearance detected (tracker.py)
-    growth_changes: int  # changes of the growth rate detected
-    limit_m: float
-    life_status: str  # "ok" | "warn" | "due" | "insufficient_data" (life.py)
-    cycles_p05: float | None
-    cycles_p50: float | None
-    cycles_p95: float | None
-    applications_per_hour: float | None  # observed usage [1/h]
-    usage_span_s: float | None  # stamp span over which the usage was observed [s]
-    seconds_p05: float | None  # remaining life at the observed usage [s]
-    seconds_p50: float | None
-    seconds_p95: float | None
-    hours_p50: float | None
-    fatigue_l10_revolutions: float | None
-    fatigue_cubic_mean_load_n: float | None
-    revolutions: float
-    fatigue_remaining_cycles: float | None
-    limiting_mechanism: str  # "wear" | "fatigue" | "unknown"
-    input_faults: dict[str, int]  # totals per kind
-    input_faults_by_signal: dict[str, dict[str, int]]
-    input_rates_hz: dict[str, float | None]  # accepted samples per second of stamp span
-    segments: dict[str, int]  # closed segments per kind (cycle, incomplete, motion, interrupted, partial)
-    last_stamp_ns: int | None  # end of the last closed segment: data up to here is integrated [ns]
-    pending_samples: int  # samples still waiting in the reorder window
-
-    def to_json_dict(self) -> dict[str, Any]:
-        """The per-unit entry of the replay JSON (interface.md section 4) without "unit"; NaN -> null."""
-        return jsonable({  # type: ignore[return-value]
-            "duty_cycles": self.duty_cycles,
-            "wear": {"screw_raceway_m": self.wear_screw_m, "nut_raceway_m": self.wear_nut_m,
-                     "ball_m": self.wear_ball_m},
-            "clearance": {"model_m": self.clearance_model_m, "estimate_m": self.clearance_estimate_m,
-                          "std_m": self.clearance_std_m, "wear_rate_factor": self.wear_rate_factor,
-                          "wear_rate_factor_std": self.wear_rate_factor_std,
-                          "observations": self.observations, "steps": self.clearance_steps,
-                          "growth_changes": self.growth_changes},
-            "remaining_life": {
-                "limit_m": self.limit_m, "cycles_p05": self.cycles_p05, "cycles_p50": self.cycles_p50,
-                "cycles_p95": self.cycles_p95, "status": self.life_status,
-                "applications_per_hour": self.applications_per_hour, "hours_p50": self.hours_p50,
-                "seconds_p05": self.seconds_p05, "seconds_p50": self.seconds_p50,
-                "seconds_p95": self.seconds_p95, "usage_span_s": self.usage_span_s,
-                "growth_rate_m_per_cycle": self.growth_rate_m_per_cycle,
-                "growth_rate_std_m_per_cycle": self.growth_rate_std_m_per_cycle,
-                "fatigue_l10_revolutions": self.fatigue_l10_revolutions,
-                "fatigue_cubic_mean_load_n": self.fatigue_cubic_mean_load_n,
-                "revolutions": self.revolutions,
-                "fatigue_remaining_cycles": self.fatigue_remaining_cycles,
-                "limiting_mechanism": self.limiting_mechanism},
-            "input_faults": self.input_faults,
-            "input_faults_by_signal": self.input_faults_by_signal,
-            "input_rates_hz": self.input_rates_hz,
-            "segments": self.segments,
-            "last_stamp_ns": self.last_stamp_ns,
-        })
 
 
 def _physics(unit: UnitParams, method: str) -> tuple[WearRatesFn, GrowthFn]:
@@ -272,9 +166,9 @@ class MonitorCore:
             st.sum_f3_rot += float(np.sum(np.abs(seg.force) ** 3 * rot))
             st.sum_rot_rad += float(np.sum(rot))
         for k in range(N_LABELS):
-            st.wear_screw_m += float(phase_wear[0, k])
-            st.wear_nut_m += float(phase_wear[1, k])
-            st.wear_ball_m += float(phase_wear[2, k])
+            st.screw_raceway_m += float(phase_wear[0, k])
+            st.nut_raceway_m += float(phase_wear[1, k])
+            st.ball_m += float(phase_wear[2, k])
         st.segments[seg.kind] = st.segments.get(seg.kind, 0) + 1
         st.last_stamp_ns = seg.end_ns
         if seg.kind == "interrupted":
@@ -355,7 +249,7 @@ class MonitorCore:
     def model_clearance(self) -> float:
         """Axial clearance predicted by the wear model: nominal x_ag + clearance_growth(wear) [m]."""
         st = self._st
-        return self._nominal + self._growth(st.wear_screw_m, st.wear_nut_m, st.wear_ball_m)
+        return self._nominal + self._growth(st.screw_raceway_m, st.nut_raceway_m, st.ball_m)
 
     @property
     def state(self) -> MonitorState:
@@ -395,8 +289,8 @@ class MonitorCore:
         rate, rate_std, factor, factor_std = self._growth_rate()
         s50 = seconds(life.cycles_p50)
         return MonitorSnapshot(
-            duty_cycles=st.duty_cycles, wear_screw_m=st.wear_screw_m, wear_nut_m=st.wear_nut_m,
-            wear_ball_m=st.wear_ball_m, clearance_model_m=self.model_clearance(),
+            duty_cycles=st.duty_cycles, screw_raceway_m=st.screw_raceway_m, nut_raceway_m=st.nut_raceway_m,
+            ball_m=st.ball_m, clearance_model_m=self.model_clearance(),
             clearance_estimate_m=estimate,
             clearance_std_m=estimate_std, growth_rate_m_per_cycle=rate, growth_rate_std_m_per_cycle=rate_std,
             wear_rate_factor=factor, wear_rate_factor_std=factor_std, observations=st.observations,

@@ -56,12 +56,7 @@ import numpy as np
 from scipy.special import ndtr
 
 from ebm_wear_monitor.monitor.kalman import Bank, Hypotheses
-
-STATUS_OK = "ok"
-STATUS_WARN = "warn"
-STATUS_DUE = "due"
-STATUS_INSUFFICIENT = "insufficient_data"
-STATUSES = (STATUS_OK, STATUS_WARN, STATUS_DUE, STATUS_INSUFFICIENT)
+from ebm_wear_monitor.schema.monitor import STATUS_DUE, STATUS_INSUFFICIENT, STATUS_OK, STATUS_WARN
 
 #: coarse grid of remaining applications for the quantile search [-]
 _GRID = np.geomspace(1e-2, 1e10, 161)
@@ -72,7 +67,7 @@ _NEGLIGIBLE_WEIGHT = 1e-6
 
 @dataclass(frozen=True)
 class WearLife:
-    status: str  # one of STATUSES
+    status: str  # one of schema.monitor.STATUSES
     cycles_p05: float | None  # applications to the clearance limit, 5th percentile [-]; None: unbounded
     cycles_p50: float | None
     cycles_p95: float | None

@@ -13,6 +13,8 @@ Version 2 (issue 11) replaced the two-state filter ``filter_x`` / ``filter_P``
 ([x_ag, f]) and ``rejections_in_row`` by ``tracker``. A version-1 state is
 migrated on load (:func:`MonitorState.from_dict`): its clearance and wear-rate
 factor become the prior of the new filter bank, every other value is kept.
+Version 3 (issue 14) renamed ``wear_screw_m``/``wear_nut_m``/``wear_ball_m`` to the results'
+names ``screw_raceway_m``/``nut_raceway_m``/``ball_m``; older states are migrated on load.
 """
 
 from __future__ import annotations
@@ -24,7 +26,9 @@ from typing import Any
 from ebm_wear_monitor.monitor.kalman import COMPONENTS, Bank
 from ebm_wear_monitor.monitor.tracker import Record
 
-STATE_VERSION = 2
+STATE_VERSION = 3
+#: version 3 names the wear depths as the results do (schema/monitor.py); version 2 keys -> version 3
+_V2_NAMES = {"wear_screw_m": "screw_raceway_m", "wear_nut_m": "nut_raceway_m", "wear_ball_m": "ball_m"}
 
 
 class StateError(ValueError):
@@ -39,9 +43,9 @@ class MonitorState:
     unit_digest: str = ""  # UnitParams.digest() of the parameters that produced it
     duty_cycles: int = 0  # completed brake applications
     segments: dict[str, int] = field(default_factory=dict)  # closed segments per kind
-    wear_screw_m: float = 0.0  # cumulative wear depth of the screw raceway [m]
-    wear_nut_m: float = 0.0  # ... nut raceway [m]
-    wear_ball_m: float = 0.0  # ... balls [m]
+    screw_raceway_m: float = 0.0  # cumulative wear depth of the screw raceway [m]
+    nut_raceway_m: float = 0.0  # ... nut raceway [m]
+    ball_m: float = 0.0  # ... balls [m]
     tracker: dict[str, Any] | None = None  # ClearanceTracker.to_dict(); None before the first application
     observations: int = 0  # clearance observations made (finite ones handed to the filter)
     clearance_steps: int = 0  # steps of the clearance detected (tracker.py)
@@ -68,6 +72,8 @@ class MonitorState:
             raise StateError("state is not a mapping")
         if data.get("version") == 1:
             data = _migrate_v1(data)
+        if data.get("version") == 2:
+            data = {_V2_NAMES.get(k, k): v for k, v in data.items()} | {"version": STATE_VERSION}
         if data.get("version") != STATE_VERSION:
             raise StateError(f"unsupported state version {data.get('version')!r} (expected {STATE_VERSION})")
         unknown = set(data) - {f.name for f in fields(cls)}
@@ -78,7 +84,7 @@ class MonitorState:
             v = getattr(state, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                 raise StateError(f"{name}: expected a count, got {v!r}")
-        for name in ("wear_screw_m", "wear_nut_m", "wear_ball_m", "sum_f3_rot", "sum_rot_rad"):
+        for name in ("screw_raceway_m", "nut_raceway_m", "ball_m", "sum_f3_rot", "sum_rot_rad"):
             v = getattr(state, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise StateError(f"{name}: expected a finite number >= 0, got {v!r}")
@@ -120,8 +126,8 @@ def _check_tracker(tracker: Any) -> None:
 
 
 def _migrate_v1(data: dict[str, Any]) -> dict[str, Any]:
-    """A version-1 state as version 2: the [x_ag, f] filter becomes ``legacy_filter`` (the prior of the
-    new bank, core.py), ``rejections_in_row`` is dropped."""
+    """A version-1 state as version 2 (then migrated to 3): the [x_ag, f] filter becomes
+    ``legacy_filter`` (the prior of the new bank, core.py), ``rejections_in_row`` is dropped."""
     data = dict(data)
     x, P = data.pop("filter_x", None), data.pop("filter_P", None)
     data.pop("rejections_in_row", None)
@@ -132,5 +138,5 @@ def _migrate_v1(data: dict[str, Any]) -> dict[str, Any]:
         if not ok:
             raise StateError("version-1 filter_x must be 2 finite numbers and filter_P a finite 2x2 matrix")
         data["tracker"] = {"legacy_filter": {"x": x, "P": P}}
-    data["version"] = STATE_VERSION
+    data["version"] = 2
     return data

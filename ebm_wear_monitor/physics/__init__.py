@@ -5,8 +5,8 @@ Public API:
 * :func:`wear_model` / :class:`WearModel` / :class:`WearRates`: wear-depth rates of
   screw raceway, nut raceway and ball for arrays of axial force and screw speed;
 * :func:`clearance_growth`: axial clearance growth from wear depths;
-* :func:`contact_report` and :func:`wear_report`: the JSON dicts of ``ebm-wear calc
-  contact`` and ``ebm-wear calc wear`` (interface.md section 4);
+* :func:`contact_report` and :func:`wear_report`: the results of ``ebm-wear calc contact`` and
+  ``ebm-wear calc wear`` (records of :mod:`ebm_wear_monitor.schema.calc`; interface.md section 4);
 * :class:`ModelOptions`: the selectable readings of 000's ambiguous equations.
 """
 

@@ -1,4 +1,5 @@
-"""JSON results of ``ebm-wear calc contact`` and ``ebm-wear calc wear`` (interface.md section 4).
+"""Results of ``ebm-wear calc contact`` and ``ebm-wear calc wear`` (interface.md section 4; the
+records and their JSON keys are declared in :mod:`ebm_wear_monitor.schema.calc`).
 
 Physical envelope (:data:`~ebm_wear_monitor.physics.surrogate.ENVELOPE`, the range the wear model
 is tabulated and tested over): axial force 0 < F_a <= 80 kN (four times the reference screw's
@@ -26,6 +27,7 @@ from ebm_wear_monitor.physics.hertz import deformation, houpert_max_pressure, ho
 from ebm_wear_monitor.physics.options import ModelOptions
 from ebm_wear_monitor.physics.plasticity import contact_area
 from ebm_wear_monitor.physics.surrogate import ENVELOPE
+from ebm_wear_monitor.schema.calc import ContactResult, ContactSide, ReadingOptions, WearResult, WearSide
 
 
 def _positive(name: str, value: float, maximum: float, unit: str) -> float:
@@ -60,7 +62,7 @@ def _contact_type(plastic: Any) -> str:
 
 
 def contact_report(unit: UnitParams, axial_force: float | None = None, normal_load_n: float | None = None,
-                   options: ModelOptions | None = None) -> dict[str, dict[str, Any]]:
+                   options: ModelOptions | None = None) -> ContactResult:
     """Static contact of one ball with each raceway (000 eq. 1-7, 003 eq. 1-5, 14-15).
 
     Quasi-static and frictionless as in 003 Sec. 2.1: the normal load is the given
@@ -78,7 +80,7 @@ def contact_report(unit: UnitParams, axial_force: float | None = None, normal_lo
     else:
         q_max = float(normal_load(ENVELOPE.force_max, geo.z, alpha, geo.phi))
         q = _positive("normal load", normal_load_n, q_max, "N")  # type: ignore[arg-type]
-    out: dict[str, dict[str, Any]] = {}
+    out: dict[str, ContactSide] = {}
     for side in SIDES:
         c = curvature(geo, side, alpha)
         e_red = geo.modulus(side)
@@ -87,22 +89,16 @@ def contact_report(unit: UnitParams, axial_force: float | None = None, normal_lo
         mat = getattr(unit.materials, side)
         ca = contact_area(delta, c.gamma, area_radius(unit, c.sum_rho, options.radius), hardness=mat.hardness,
                           poisson_ratio=softer_poisson(unit, side), e_red=e_red, kappa_reading=options.kappa)
-        out[side] = {
-            "normal_load_N": q,
-            "semi_major_m": float(a),
-            "semi_minor_m": float(b),
-            "max_pressure_Pa": float(houpert_max_pressure(q, c.r_x, c.gamma, e_red)),
-            "deformation_m": float(delta),
-            "contact_type": _contact_type(ca.plastic),
-            "contact_area_m2": float(ca.area),
-            "contact_angle_deg": math.degrees(alpha),
-            "critical_interference_m": float(ca.delta_c),
-        }
-    return out
+        out[side] = ContactSide(
+            normal_load_N=q, semi_major_m=float(a), semi_minor_m=float(b),
+            max_pressure_Pa=float(houpert_max_pressure(q, c.r_x, c.gamma, e_red)), deformation_m=float(delta),
+            contact_type=_contact_type(ca.plastic), contact_area_m2=float(ca.area),
+            contact_angle_deg=math.degrees(alpha), critical_interference_m=float(ca.delta_c))
+    return ContactResult(**out)
 
 
 def wear_report(unit: UnitParams, axial_force: float, speed: float,
-                options: ModelOptions | None = None) -> dict[str, Any]:
+                options: ModelOptions | None = None) -> WearResult:
     """Instantaneous wear state at constant axial force [N] and screw speed [rad/s] (000 eq. 5-23)."""
     options = options or ModelOptions()
     f = check_axial_force(axial_force)
@@ -112,21 +108,12 @@ def wear_report(unit: UnitParams, axial_force: float, speed: float,
         raise InputError(f"the Fig. 6 equilibrium did not converge in {options.max_iter} iterations at "
                          f"{f:g} N, {speed:g} rad/s (friction coefficients mu_s {float(eq.mu_s[0]):.3g}, "
                          f"mu_n {float(eq.mu_n[0]):.3g}): outside the range the model solves")
-    out: dict[str, Any] = {}
-    for side, st in (("screw", screw), ("nut", nut)):
-        out[side] = {
-            "normal_load_N": float(st.normal_load[0]),
-            "contact_angle_deg": math.degrees(float(st.alpha[0])),
-            "sliding_velocity_m_s": float(st.sliding_velocity[0]),
-            "contact_area_m2": float(st.area[0]),
-            "contact_type": _contact_type(st.plastic[0]),
-            "wear_rate_m_s": float(st.wear_rate[0]),
-            "deformation_m": float(st.deformation[0]),
-        }
+    sides = {side: WearSide(
+        normal_load_N=float(st.normal_load[0]), contact_angle_deg=math.degrees(float(st.alpha[0])),
+        sliding_velocity_m_s=float(st.sliding_velocity[0]), contact_area_m2=float(st.area[0]),
+        contact_type=_contact_type(st.plastic[0]), wear_rate_m_s=float(st.wear_rate[0]),
+        deformation_m=float(st.deformation[0])) for side, st in (("screw", screw), ("nut", nut))}
     ball = float(ball_rate(screw.wear_rate, nut.wear_rate, unit.wear.raceway_share)[0])
-    out["ball_wear_rate_m_s"] = ball
     growth = clearance_growth(unit, screw.wear_rate[0], nut.wear_rate[0], ball)
-    out["clearance_growth_rate_m_s"] = float(growth)
-    out["iterations"] = eq.iterations
-    out["options"] = asdict(options)
-    return out
+    return WearResult(**sides, ball_wear_rate_m_s=ball, clearance_growth_rate_m_s=float(growth),
+                      iterations=int(eq.iterations), options=ReadingOptions(**asdict(options)))

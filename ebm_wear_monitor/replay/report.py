@@ -93,7 +93,7 @@ def unit_context(unit: UnitReplay) -> dict:
         "has_truth": bool(unit.truth and unit.truth.get("eol_cycles") is not None),
         "alpha_pct": percent(ALPHA),
         "details": detail_rows(entry),
-        "prognostics": prognostics_rows(unit.prognostics) if unit.prognostics else [],
+        "prognostics": prognostics_rows(entry["prognostics"]) if "prognostics" in entry else [],
     }
 
 

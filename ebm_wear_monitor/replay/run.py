@@ -13,7 +13,6 @@ section 2).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,16 +26,16 @@ from ebm_wear_monitor.monitor import (
     SIGNALS,
     Application,
     Batch,
-    CycleSummary,
     Feeder,
     MonitorConfig,
     MonitorCore,
-    MonitorSnapshot,
     MonitorState,
 )
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.replay.prognostics import prognostics_metrics
 from ebm_wear_monitor.replay.result import APPLICATION_COLUMNS, UnitReplay
+from ebm_wear_monitor.schema import from_json, table_row
+from ebm_wear_monitor.schema.replay import Prognostics, ReplayDocument
 
 
 @dataclass
@@ -48,28 +47,8 @@ class ReplayResult:
     problems: list[str] = field(default_factory=list)
 
     def to_json_dict(self) -> dict:
-        """The replay JSON of interface.md section 4 (plus ``rejected_topics`` and ``storage_problems``)."""
-        return {"units": [u.to_json_dict() for u in self.units], "rejected_topics": self.rejected,
-                "storage_problems": self.problems}
-
-
-def _row(cycle: CycleSummary, snap: MonitorSnapshot | None) -> dict:
-    row = {"index": cycle.index, "stamp_s": cycle.end_s, "clearance_model_m": cycle.clearance_model_m,
-           "clearance_observed_m": cycle.clearance_observed_m,
-           "clearance_observed_std_m": cycle.clearance_observed_std_m,
-           "clearance_estimate_m": cycle.clearance_estimate_m, "clearance_std_m": cycle.clearance_std_m,
-           "growth_rate_m_per_cycle": cycle.growth_rate_m_per_cycle,
-           "growth_rate_std_m_per_cycle": cycle.growth_rate_std_m_per_cycle,
-           "life_status": snap.life_status if snap is not None else None,
-           "peak_force_n": cycle.peak_force_n,
-           "screw_wear_increment_m": sum(cycle.screw_wear_m), "nut_wear_increment_m": sum(cycle.nut_wear_m),
-           "ball_wear_increment_m": sum(cycle.ball_wear_m), "wear_rate_factor": cycle.wear_rate_factor}
-    for key, attr in (("screw_raceway_m", "wear_screw_m"), ("nut_raceway_m", "wear_nut_m"),
-                      ("ball_m", "wear_ball_m"), ("cycles_p05", "cycles_p05"), ("cycles_p50", "cycles_p50"),
-                      ("cycles_p95", "cycles_p95")):
-        value = getattr(snap, attr) if snap is not None else None
-        row[key] = math.nan if value is None else float(value)
-    return row
+        """The replay JSON of interface.md section 4 (schema/replay.py ``ReplayDocument``)."""
+        return ReplayDocument([u.entry() for u in self.units], self.rejected, self.problems).to_json_dict()
 
 
 class UnitRun:
@@ -83,7 +62,7 @@ class UnitRun:
         self._rated: set[str] = set()  # signals whose sample rate has been checked
 
     def _collect(self, events: list[Application]) -> None:
-        self.rows += [_row(a.cycle, a.snapshot) for a in events]
+        self.rows += [table_row("applications", a.cycle, a.snapshot) for a in events]
 
     def feed(self, batch: Batch) -> None:
         """Queue one batch of this unit's records and collect the applications it completed.
@@ -103,11 +82,9 @@ class UnitRun:
         self._collect(self.feeder.finish())
         core = self.feeder.core
         applications = pd.DataFrame(self.rows, columns=list(APPLICATION_COLUMNS))
-        result = UnitReplay(self.unit, {"unit": self.unit, **core.snapshot().to_json_dict()}, applications,
-                            bags=[str(b) for b in bags], messages=self.feeder.messages, truth=truth,
-                            state=core.state.to_dict())
-        result.prognostics = judge(applications, truth)
-        return result
+        return UnitReplay(self.unit, core.snapshot(), applications, bags=[str(b) for b in bags],
+                          messages=self.feeder.messages, prognostics=judge(applications, truth), truth=truth,
+                          state=core.state.to_dict())
 
 
 def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *,
@@ -129,7 +106,7 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
     return run.finish(data.bags, truth)
 
 
-def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
+def judge(applications: pd.DataFrame, truth: dict | None) -> Prognostics | None:
     """Prognostics metrics of the median remaining life against ``truth`` (None without end of life).
 
     Application ``k`` of the table is application ``cycles_at_start + k`` since new.
@@ -139,7 +116,8 @@ def judge(applications: pd.DataFrame, truth: dict | None) -> dict | None:
     since_new = applications["index"].to_numpy(float) + float(truth.get("cycles_at_start") or 0)
     p05, p50, p95 = (applications[f"cycles_{q}"].to_numpy(float) for q in ("p05", "p50", "p95"))
     issued = np.where(np.isfinite(p95), p50, np.nan)  # with p95 unbounded a median is a bound, no forecast
-    return prognostics_metrics(since_new, issued, float(truth["eol_cycles"]), rul_p05=p05, rul_p95=p95)
+    return from_json(Prognostics, prognostics_metrics(since_new, issued, float(truth["eol_cycles"]),
+                                                      rul_p05=p05, rul_p95=p95))
 
 
 def truth_by_namespace(units: dict[str, list[Path]] | Recording) -> dict[str, dict]:

@@ -70,6 +70,7 @@ from ebm_wear_monitor.ros.diagnostics import (
 from ebm_wear_monitor.ros.inputs import InputBuffer
 from ebm_wear_monitor.ros.parameters import MONITOR_NAMES, NodeParameters
 from ebm_wear_monitor.ros.qos import event_qos, input_qos, latched_qos
+from ebm_wear_monitor.schema import diagnostic_values
 
 NODE_NAME = "wear_monitor"
 #: the node's namespace when none is given (interface.md section 2)
@@ -240,7 +241,7 @@ class WearMonitorNode:
         self.faults_reported = total
         self.core_error = ""  # ERROR for the period(s) with a failure; the count stays in core_errors
         ns = self.node.get_namespace()
-        values = messages.diagnostic_values(snap) | {f"rate_{s}_hz": r for s, r in rates.items()}
+        values = diagnostic_values(snap) | {f"rate_{s}_hz": r for s, r in rates.items()}
         values |= {f"received_{s}": b.received for s, b in self.inputs.items()}
         values |= {f"age_{s}_s": a for s, a in ages.items()}
         values |= {f"fault_{k}": v for k, v in faults.items() if k not in snap.input_faults}

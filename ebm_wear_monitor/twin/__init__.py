@@ -2,7 +2,7 @@
 
 Public API::
 
-    actuator_torques(unit, clamp_force_N) -> dict      # calc actuator (interface.md section 4)
+    actuator_torques(unit, clamp_force_N) -> ActuatorResult      # calc actuator (interface.md section 4)
     simulate_unit(unit, cycles, demands=None, effects={name: magnitude}, seed=0, rate_hz=1000,
                   wear_acceleration=1.0, *, hold_s=1.0, rest_s=0.5, ...) -> SimResult
     simulate_current_driven(unit | ActuatorModel, t, current, x0=(angle, velocity)) -> Trajectory

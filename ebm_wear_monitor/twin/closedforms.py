@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.schema.calc import ActuatorResult
 from ebm_wear_monitor.twin.dynamics import equivalent_inertia
 from ebm_wear_monitor.twin.friction import FrictionLaw, friction_law
 
@@ -38,10 +39,10 @@ def _transmission(unit: UnitParams) -> float:
     return unit.ball_screw.lead / (2.0 * math.pi * unit.actuator.gear_ratio)
 
 
-def actuator_torques(unit: UnitParams, clamp_force: float) -> dict[str, float]:
+def actuator_torques(unit: UnitParams, clamp_force: float) -> ActuatorResult:
     """Torques at the motor shaft holding ``clamp_force`` [N] (force maintenance, 004 eq. 1, 9, 42).
 
-    Keys: ``load_torque_Nm`` T_L = l F / (2 π i_g); ``friction_torque_Nm`` T_fc + G F (the
+    Fields (schema/calc.py): ``load_torque_Nm`` T_L = l F / (2 π i_g); ``friction_torque_Nm`` T_fc + G F (the
     kinetic level the force was reached at); ``motor_torque_Nm`` T_m = T_L + T_f;
     ``torque_transfer_ratio`` l_e = T_L / T_m (eq. 42, a fraction). Extra keys:
     ``static_friction_torque_Nm`` T_fs + G F (most the stuck drive resists),
@@ -53,15 +54,10 @@ def actuator_torques(unit: UnitParams, clamp_force: float) -> dict[str, float]:
     friction = law.coulomb + law.load_coefficient * clamp_force
     static = law.static + law.load_coefficient * clamp_force
     motor = load + friction
-    return {
-        "load_torque_Nm": load,
-        "friction_torque_Nm": friction,
-        "motor_torque_Nm": motor,
-        "torque_transfer_ratio": load / motor if motor > 0.0 else 0.0,
-        "static_friction_torque_Nm": static,
-        "release_torque_Nm": load - static,
-        "motor_current_A": motor / unit.actuator.motor.torque_constant,
-    }
+    return ActuatorResult(
+        load_torque_Nm=load, friction_torque_Nm=friction, motor_torque_Nm=motor,
+        torque_transfer_ratio=load / motor if motor > 0.0 else 0.0, static_friction_torque_Nm=static,
+        release_torque_Nm=load - static, motor_current_A=motor / unit.actuator.motor.torque_constant)
 
 
 def gap_closing(unit: UnitParams, law: FrictionLaw | None = None,

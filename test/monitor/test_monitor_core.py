@@ -136,9 +136,9 @@ def test_wear_is_the_physics_integral_over_moving_samples(unit):
     moving = np.abs(synth.velocity) >= th.omega_off
     dt = np.diff(synth.t, prepend=synth.t[0])
     r = wear_model(unit).rates(synth.force[moving], synth.velocity[moving])
-    for name, total in (("screw", snap.wear_screw_m), ("nut", snap.wear_nut_m), ("ball", snap.wear_ball_m)):
+    for name, total in (("screw", snap.screw_raceway_m), ("nut", snap.nut_raceway_m), ("ball", snap.ball_m)):
         assert total == pytest.approx(float(np.sum(getattr(r, name) * dt[moving])), rel=1e-9)
-    growth = float(clearance_growth(unit, snap.wear_screw_m, snap.wear_nut_m, snap.wear_ball_m))
+    growth = float(clearance_growth(unit, snap.screw_raceway_m, snap.nut_raceway_m, snap.ball_m))
     assert snap.clearance_model_m == pytest.approx(unit.actuator.clearance + growth, rel=1e-12)
 
 
@@ -158,8 +158,9 @@ def test_twin_recording_end_to_end(unit, rate_hz):
         x = sim.truth["clearance_m"][c.index - 1]
         assert abs(c.clearance_observed_m - x) < 3 * c.clearance_observed_std_m
     snap = core.snapshot()
-    for name in ("screw", "nut", "ball"):  # measured (noisy) signals vs the twin's true ones
-        assert getattr(snap, f"wear_{name}_m") == pytest.approx(sim.truth["wear_m"][name][-1], rel=0.1)
+    wear = {"screw": snap.screw_raceway_m, "nut": snap.nut_raceway_m, "ball": snap.ball_m}
+    for name, depth in wear.items():  # measured (noisy) signals vs the twin's true ones
+        assert depth == pytest.approx(sim.truth["wear_m"][name][-1], rel=0.1)
 
 
 def test_json_layout_of_the_spec(unit):
@@ -201,7 +202,7 @@ def test_resume_from_checkpoint_continues_without_double_counting(unit, tmp_path
     second.process(final=True)
     a, b = second.snapshot(), ref.snapshot()
     assert a.duty_cycles == b.duty_cycles == 12
-    assert a.wear_screw_m == pytest.approx(b.wear_screw_m, rel=1e-12)
+    assert a.screw_raceway_m == pytest.approx(b.screw_raceway_m, rel=1e-12)
     assert a.input_faults["late"] == 3 * int(np.sum(synth.t <= state.last_stamp_ns * 1e-9 + 1e-9))
     save_state(tmp_path / "s.json", second.state)
     assert load_state(tmp_path / "s.json")[0].duty_cycles == 12
@@ -221,7 +222,7 @@ def test_bad_input_never_breaks_the_core(unit):
         core.process()
     core.process(final=True)
     snap = core.snapshot()
-    assert math.isfinite(snap.wear_screw_m) and snap.wear_screw_m >= 0
+    assert math.isfinite(snap.screw_raceway_m) and snap.screw_raceway_m >= 0
     assert sum(snap.input_faults.values()) > 0
 
 

@@ -48,7 +48,7 @@ def test_clearance_is_unbiased_on_foreign_recordings(replays, case):
     assert abs(np.nanmean(error)) < 1e-6 and np.nanstd(error) < 1e-6  # was +4.9 +- 24 um and +5.8 um
     estimate_error = apps["clearance_estimate_m"].to_numpy()[-20:] - true[-20:]
     assert np.max(np.abs(estimate_error)) < 1e-6
-    clearance = unit.summary["clearance"]
+    clearance = unit.snapshot.to_json_dict()["clearance"]
     assert clearance["steps"] == 0 and clearance["growth_changes"] == 0
     lag = truth["foreign"]["force"]["lag_s"]
     assert lag > 1e-3  # the convention the observation had to estimate
@@ -56,8 +56,8 @@ def test_clearance_is_unbiased_on_foreign_recordings(replays, case):
 
 def test_remaining_life_follows_the_foreign_trend(replays):
     truth, unit = replays["life.linear_0.6"]
-    life = unit.summary["remaining_life"]
-    true_left = truth["eol_cycles"] - unit.summary["duty_cycles"]
+    life = unit.snapshot.to_json_dict()["remaining_life"]
+    true_left = truth["eol_cycles"] - unit.snapshot.duty_cycles
     assert life["cycles_p05"] <= true_left <= life["cycles_p95"]
     assert life["cycles_p50"] == pytest.approx(true_left, rel=0.05)
     assert life["status"] == "due"  # about 290 applications left: below the reference due_cycles (1000)
@@ -65,7 +65,7 @@ def test_remaining_life_follows_the_foreign_trend(replays):
 
 def test_a_flat_foreign_unit_raises_no_alarm(replays):
     _, unit = replays["life.flat_low_usage"]
-    life = unit.summary["remaining_life"]
+    life = unit.snapshot.to_json_dict()["remaining_life"]
     assert life["status"] == "insufficient_data" and life["cycles_p95"] is None
     assert life["cycles_p05"] > 1e5
     p05 = unit.applications["cycles_p05"].to_numpy()

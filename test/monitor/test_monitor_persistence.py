@@ -49,8 +49,8 @@ def test_missing_file_is_reported(tmp_path):
 @pytest.mark.parametrize("damage", ["garbage", "flipped_digit", "wrong_version"])
 def test_corrupt_file_is_kept_aside_and_backup_used(tmp_path, damage):
     path = tmp_path / "s.json"
-    good = MonitorState(duty_cycles=5, wear_screw_m=1e-9)
-    newer = MonitorState(duty_cycles=6, wear_screw_m=2e-9)
+    good = MonitorState(duty_cycles=5, screw_raceway_m=1e-9)
+    newer = MonitorState(duty_cycles=6, screw_raceway_m=2e-9)
     save_state(path, good)
     save_state(path, newer)
     text = path.read_text()
@@ -71,7 +71,7 @@ def test_corrupt_file_is_kept_aside_and_backup_used(tmp_path, damage):
 
 def test_every_truncation_of_a_non_atomic_write_is_survived(tmp_path):
     path = tmp_path / "s.json"
-    good, newer = MonitorState(duty_cycles=5), MonitorState(duty_cycles=6, wear_nut_m=3e-10)
+    good, newer = MonitorState(duty_cycles=5), MonitorState(duty_cycles=6, nut_raceway_m=3e-10)
     save_state(path, good)
     save_state(path, newer)
     full = path.read_bytes()
@@ -136,13 +136,14 @@ def test_kill_minus_nine_at_random_points(unit, tmp_path):
         # the checkpoint holds exactly the wear of the first k applications: never more than the truth
         ref = _core_after(unit, synth, until_s=synth.marks[k - 1]["release_end"] + 0.1)
         assert ref.state.duty_cycles == k
-        assert (state.wear_screw_m, state.sum_rot_rad) == (ref.state.wear_screw_m, ref.state.sum_rot_rad)
-        assert state.wear_screw_m <= full.state.wear_screw_m
+        assert (state.screw_raceway_m, state.sum_rot_rad) == \
+            (ref.state.screw_raceway_m, ref.state.sum_rot_rad)
+        assert state.screw_raceway_m <= full.state.screw_raceway_m
         # resumed and fed the whole recording again: nothing counted twice, nothing lost
         resumed = MonitorCore(unit, MonitorConfig(), state, **KW)
         for s, (t, v) in synth.signals().items():
             resumed.add(s, t, v)
         resumed.process(final=True)
         assert resumed.state.duty_cycles == cycles
-        assert resumed.state.wear_screw_m == pytest.approx(full.state.wear_screw_m, rel=1e-12)
+        assert resumed.state.screw_raceway_m == pytest.approx(full.state.screw_raceway_m, rel=1e-12)
     assert seen, "every kill landed before the first checkpoint"

@@ -82,7 +82,7 @@ def test_partial_applications_at_both_ends_are_not_counted(unit):
     assert len(cycles) == 3
     segs = core.snapshot().segments
     assert segs == {"motion": 1, "cycle": 3, "partial": 1}
-    assert core.snapshot().wear_screw_m > sum(sum(c.screw_wear_m) for c in cycles)  # partial wear counted
+    assert core.snapshot().screw_raceway_m > sum(sum(c.screw_wear_m) for c in cycles)  # partial wear counted
 
 
 def test_noise_at_rest_makes_no_segments(unit):
@@ -94,7 +94,7 @@ def test_noise_at_rest_makes_no_segments(unit):
     core.add("axial_force", t, rng.normal(0, 50.0, t.size))
     assert core.process(final=True) == []
     snap = core.snapshot()
-    assert snap.segments == {} and snap.wear_screw_m == 0.0
+    assert snap.segments == {} and snap.screw_raceway_m == 0.0
 
 
 @pytest.mark.parametrize("bias", [-2000.0, -200.0, 200.0, 2000.0])

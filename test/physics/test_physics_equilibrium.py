@@ -146,4 +146,4 @@ def test_an_unconverged_solve_is_refused_not_reported():
 
     with pytest.raises(InputError, match="did not converge in 1 iterations"):
         wear_report(UNIT, 20e3, 20.0, ModelOptions(max_iter=1))
-    assert wear_report(UNIT, 20e3, 20.0)["screw"]["wear_rate_m_s"] > 0.0
+    assert wear_report(UNIT, 20e3, 20.0).screw.wear_rate_m_s > 0.0

@@ -118,13 +118,13 @@ def test_003_with_p_100_newton_does_not_give_the_tables():
     """P = 100 N, Z = 42 (003 Sec. 3.1 read literally): Q = 3.16 N and a = 0.19 mm, not 0.4611 mm."""
     res = contact_report(load_unit("screw_003"), axial_force=100.0)
     q_literal = 100.0 / (42 * math.sin(math.radians(49.0495)))
-    assert res[SCREW]["normal_load_N"] == pytest.approx(q_literal, rel=3e-3)
+    assert res.screw.normal_load_N == pytest.approx(q_literal, rel=3e-3)
     # Hertz: a grows as Q^(1/3), so from the table's a at its implied load (p_max = 3 Q / (2 pi a b))
     a_table, b_table, p_table = TABLE_003[SCREW]
     q_table = 2.0 / 3.0 * math.pi * a_table * 1e-3 * b_table * 1e-3 * p_table * 1e6
     expected = a_table * 1e-3 * (q_literal / q_table) ** (1.0 / 3.0)
-    assert res[SCREW]["semi_major_m"] == pytest.approx(expected, rel=0.01)
-    assert TABLE_003[SCREW][0] * 1e-3 / res[SCREW]["semi_major_m"] > 2.4
+    assert res.screw.semi_major_m == pytest.approx(expected, rel=0.01)
+    assert TABLE_003[SCREW][0] * 1e-3 / res.screw.semi_major_m > 2.4
 
 
 @pytest.mark.parametrize("kwargs", [{"axial_force": 1480.0}, {"normal_load_n": 46.7}])
@@ -132,7 +132,7 @@ def test_003_tables_3_and_4_within_one_percent(kwargs):
     """P = 1.48 kN (Q = 46.7 N per ball) reproduces all six published values within 1 %."""
     res = contact_report(load_unit("screw_003"), **kwargs)
     for side, (a_mm, b_mm, p_mpa) in TABLE_003.items():
-        assert res[side]["semi_major_m"] == pytest.approx(a_mm * 1e-3, rel=0.01)
-        assert res[side]["semi_minor_m"] == pytest.approx(b_mm * 1e-3, rel=0.01)
-        assert res[side]["max_pressure_Pa"] == pytest.approx(p_mpa * 1e6, rel=0.01)
-        assert res[side]["contact_type"] == "elastic"  # 003 Sec. 2.1: elastic range
+        assert getattr(res, side).semi_major_m == pytest.approx(a_mm * 1e-3, rel=0.01)
+        assert getattr(res, side).semi_minor_m == pytest.approx(b_mm * 1e-3, rel=0.01)
+        assert getattr(res, side).max_pressure_Pa == pytest.approx(p_mpa * 1e6, rel=0.01)
+        assert getattr(res, side).contact_type == "elastic"  # 003 Sec. 2.1: elastic range

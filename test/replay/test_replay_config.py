@@ -40,8 +40,8 @@ def test_thresholds_reach_the_core(tmp_path):
                             rest_s=0.2, wear_acceleration=1.0, prior_cycles=0, rate_hz=100.0, storage="mcap")
     (bag,) = write_unit(tmp_path, scenario, unit)
     (path := tmp_path / "c.yaml").write_text("max_force_n: 1000.0\n")
-    default = replay_bags([bag], unit).units[0].summary
-    strict = replay_bags([bag], unit, config=load_monitor_config(path)).units[0].summary
+    default = replay_bags([bag], unit).units[0].snapshot.to_json_dict()
+    strict = replay_bags([bag], unit, config=load_monitor_config(path)).units[0].snapshot.to_json_dict()
     assert default["duty_cycles"] == 2
     assert strict["duty_cycles"] == 0
     assert strict["input_faults"]["absurd"] > 0

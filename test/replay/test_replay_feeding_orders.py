@@ -194,8 +194,8 @@ def test_the_glitch_of_the_issue_in_bags_worn(unit, tmp_path):
         db.execute("UPDATE messages SET data = ? WHERE id = ?", (glitched, row_id))
     clean = replay_bags([repo / "bags" / "worn"], params).units[0]
     (replayed,) = replay_bags([bag], params).units
-    assert replayed.summary["duty_cycles"] == clean.summary["duty_cycles"] == 16
-    assert replayed.summary["input_faults"] == {**clean.summary["input_faults"], "stamp_glitch": 1}
+    assert replayed.snapshot.duty_cycles == clean.snapshot.duty_cycles == 16
+    assert replayed.snapshot.input_faults == {**clean.snapshot.input_faults, "stamp_glitch": 1}
     records: dict[str, tuple[list[bytes], list[int]]] = {}
     with Reader(bag) as reader:  # an independent reader gives the records in arrival (log time) order
         for conn, log, raw in reader.messages():
@@ -207,5 +207,5 @@ def test_the_glitch_of_the_issue_in_bags_worn(unit, tmp_path):
     node = feeder.core.to_json_dict()
     assert node["duty_cycles"] == 16
     for key in ("wear", "clearance", "remaining_life", "duty_cycles"):
-        assert node[key] == {k: v for k, v in replayed.summary.items() if k != "unit"}[key], key
+        assert node[key] == replayed.snapshot.to_json_dict()[key], key
     assert [e.cycle.index for e in events] == replayed.applications["index"].tolist()

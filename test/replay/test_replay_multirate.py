@@ -43,21 +43,21 @@ def test_multirate_recording_gives_the_applications_of_the_same_unit_on_one_time
                     jitter_s=0.0, drop=0.0)
     single = replay_bags([write(tmp_path / "single", one, storage)], unit).units[0]
     assert multi.unit == single.unit == NS
-    assert multi.summary["duty_cycles"] == single.summary["duty_cycles"] == CYCLES
+    assert multi.snapshot.duty_cycles == single.snapshot.duty_cycles == CYCLES
     # faults: only force stamps before the first / after the last angle or velocity sample (the edges)
-    assert set(multi.summary["input_faults"]) <= {"missing"}
-    assert multi.summary["input_faults"].get("missing", 0) <= 4
-    assert single.summary["input_faults"] == {}
+    assert set(multi.snapshot.input_faults) <= {"missing"}
+    assert multi.snapshot.input_faults.get("missing", 0) <= 4
+    assert single.snapshot.input_faults == {}
     a, b = multi.applications, single.applications
     # the same applications: peak force and observed clearance agree within the sampling (1 ms at
     # ~4.3 rad/s screw speed: 4 mrad of angle = 3 um of nut travel)
     assert np.allclose(a["peak_force_n"], b["peak_force_n"], rtol=0, atol=200.0)
     assert np.allclose(a["clearance_observed_m"], b["clearance_observed_m"], rtol=0, atol=3e-6)
-    wear_a, wear_b = multi.summary["wear"]["screw_raceway_m"], single.summary["wear"]["screw_raceway_m"]
+    wear_a, wear_b = multi.snapshot.screw_raceway_m, single.snapshot.screw_raceway_m
     assert abs(wear_a - wear_b) <= 0.01 * wear_b  # the wear integral (000 eq. 20-23) sampled otherwise
     # by explicit choice the bag's log time (here up to 1.6 ms late) is the sample time: still all there
     logged = replay_bags([tmp_path / "multi"], unit, stamps="log").units[0]
-    assert logged.summary["duty_cycles"] == CYCLES
+    assert logged.snapshot.duty_cycles == CYCLES
 
 
 @pytest.mark.parametrize("case_id", ["multirate.none.0", "multirate.load_friction.4"])
@@ -74,9 +74,9 @@ def test_foreign_multirate_recordings_align_without_faults(tmp_path, case_id):
     (result,) = replay_bags([bag], load_unit()).units
     truth = read_ground_truth(bag)["units"][result.unit]["foreign"]
     assert result.unit == NS
-    assert result.summary["input_faults"] == {}
+    assert result.snapshot.input_faults == {}
     n = len(truth["applications"]["demand_N"])
-    assert n - 1 <= result.summary["duty_cycles"] <= n
+    assert n - 1 <= result.snapshot.duty_cycles <= n
 
 
 def test_two_recorders_of_one_unit_overlapping_in_time_are_merged_by_log_time(tmp_path):
@@ -89,7 +89,7 @@ def test_two_recorders_of_one_unit_overlapping_in_time_are_merged_by_log_time(tm
     b = write(tmp_path / "b", {s: rec[s] for s in ("axial_force", "current")}, "mcap")
     whole = replay_bags([one], unit).units[0]
     split = replay_bags([b, a], unit).units[0]
-    assert split.summary["duty_cycles"] == CYCLES
-    assert {k: v for k, v in split.summary.items() if k != "unit"} == \
-        {k: v for k, v in whole.summary.items() if k != "unit"}
+    assert split.snapshot.duty_cycles == CYCLES
+    assert {k: v for k, v in split.snapshot.to_json_dict().items() if k != "unit"} == \
+        {k: v for k, v in whole.snapshot.to_json_dict().items() if k != "unit"}
     assert split.bags == [str(a), str(b)] or split.bags == [str(b), str(a)]

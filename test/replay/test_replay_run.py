@@ -50,15 +50,14 @@ def test_replay_equals_the_node_feeding_one_message_at_a_time(sim_bag, unit):
                 node_cycles += core.process()
     node_cycles += core.process(final=True)
     (replayed,) = result.units
-    expected = {"unit": "/embu", **core.snapshot().to_json_dict()}
-    assert replayed.summary == expected
-    assert 6 <= replayed.summary["duty_cycles"] <= 8  # the injected gap may cut an application
+    assert replayed.snapshot.to_json_dict() == core.snapshot().to_json_dict()
+    assert 6 <= replayed.snapshot.duty_cycles <= 8  # the injected gap may cut an application
     app = replayed.applications
     assert app["index"].tolist() == [c.index for c in node_cycles]
     assert app["clearance_estimate_m"].tolist() == [c.clearance_estimate_m for c in node_cycles]
     observed = [c.clearance_observed_m for c in node_cycles]
     assert np.array_equal(app["clearance_observed_m"].to_numpy(), observed, equal_nan=True)
-    assert sum(replayed.summary["input_faults"].values()) > 0  # the injected faults reached the core
+    assert sum(replayed.snapshot.input_faults.values()) > 0  # the injected faults reached the core
 
 
 def test_several_units_in_one_bag_and_several_bags_per_unit(tmp_path, sim_bag, unit):
@@ -80,9 +79,8 @@ def test_several_units_in_one_bag_and_several_bags_per_unit(tmp_path, sim_bag, u
     assert [u.unit for u in split.units] == ["/a", "/b"]
     a, b = split.units
     assert a.bags == [str(tmp_path / "day1"), str(tmp_path / "day2")]
-    ref = single.units[0].summary
-    assert a.summary == {**ref, "unit": "/a"}
-    assert b.summary["duty_cycles"] == a.summary["duty_cycles"] > 0
+    assert a.snapshot.to_json_dict() == single.units[0].snapshot.to_json_dict()
+    assert b.snapshot.duty_cycles == a.snapshot.duty_cycles > 0
 
 
 def test_json_layout_and_prognostics_against_ground_truth(sim_bag, unit):

@@ -46,7 +46,7 @@ def test_the_readme_live_tour_works_verbatim(procs, repo, tmp_path) -> None:
     lines.wait_for("READY", 30)
     assert player.wait(timeout=90) == 0, player.stderr.read()
     assert player.stdout.read().startswith("published ")
-    expected = replay_bags([repo / "bags" / "healthy"], load_unit()).units[0].summary
+    expected = replay_bags([repo / "bags" / "healthy"], load_unit()).units[0].snapshot.to_json_dict()
     assert expected["duty_cycles"] == 8  # README: "one per brake application: 8 here"
     seen = lines.wait_until(lambda s: sum(m["topic"] == "duty_cycle" for m in s) >= 8
                             and any(m["topic"] == "wear" and m["msg"]["duty_cycles"] == 8 for m in s), 30)

@@ -127,6 +127,6 @@ def test_bad_input_is_counted_never_crashes_and_never_corrupts_the_wear(procs, m
     assert node.wait(timeout=20) == 0, node.stderr.read()
     state, _ = load_state(tmp_path / "state" / STATE_FILE)
     assert state is not None and state.duty_cycles == offline.duty_cycles
-    for attr in ("wear_screw_m", "wear_nut_m", "wear_ball_m"):
+    for attr in ("screw_raceway_m", "nut_raceway_m", "ball_m"):
         got, want = getattr(state, attr), getattr(offline, attr)
         assert math.isfinite(got) and math.isclose(got, want, rel_tol=1e-9, abs_tol=0.0), attr

@@ -40,7 +40,7 @@ def wear_after_each_cycle(bag) -> list[float]:
             core.add(name, s.stamps_ns[i:i + 50], s.values[i:i + 50])
         done = core.process()
         assert len(done) <= 1
-        wear += [core.snapshot().wear_screw_m] * len(done)
+        wear += [core.snapshot().screw_raceway_m] * len(done)
     return wear
 
 
@@ -66,7 +66,7 @@ def test_kill_9_at_random_points_leaves_an_exact_checkpoint_and_resumes(procs, m
         player.kill()
         state, _problems = load_state(state_dir / STATE_FILE)
         k = 0 if state is None else state.duty_cycles
-        wear = 0.0 if state is None else state.wear_screw_m
+        wear = 0.0 if state is None else state.screw_raceway_m
         assert k % EVERY == 0, (trial, k)
         assert last_seen // EVERY * EVERY <= k <= last_seen + 1, (trial, k, last_seen)
         assert math.isclose(wear, truth[k], rel_tol=1e-9, abs_tol=0.0), (trial, k, wear, truth[k])
@@ -81,4 +81,4 @@ def test_kill_9_at_random_points_leaves_an_exact_checkpoint_and_resumes(procs, m
     node.send_signal(signal.SIGTERM)
     assert node.wait(timeout=20) == 0
     again, _ = load_state(state_dir / STATE_FILE)
-    assert again is not None and again.duty_cycles == k and again.wear_screw_m == wear
+    assert again is not None and again.duty_cycles == k and again.screw_raceway_m == wear

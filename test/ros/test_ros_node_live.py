@@ -16,13 +16,14 @@ from ebm_wear_monitor.bagio.reader import read_bags
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore, load_state
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.ros.node import STATE_FILE
+from ebm_wear_monitor.schema import quantities
+from ebm_wear_monitor.schema.monitor import MonitorSnapshot
 
 pytestmark = pytest.mark.ros
 
-#: WearState field -> MonitorSnapshot attribute
-WEAR_FIELDS = {"screw_raceway_m": "wear_screw_m", "nut_raceway_m": "wear_nut_m", "ball_m": "wear_ball_m",
-               "clearance_model_m": "clearance_model_m", "clearance_estimate_m": "clearance_estimate_m",
-               "clearance_std_m": "clearance_std_m", "wear_rate_factor": "wear_rate_factor"}
+#: WearState field -> MonitorSnapshot attribute, for every float field the schema maps (schema/monitor.py)
+WEAR_FIELDS = {q.msg["WearState"]: name for name, q in quantities(MonitorSnapshot)
+               if "WearState" in q.msg and name.endswith(("_m", "_factor", "_cycle"))}
 
 
 def offline(bag):
@@ -59,7 +60,7 @@ def test_node_wear_equals_the_offline_core_on_the_same_bag(  # noqa: PLR0917
     seen = lines.wait_until(
         lambda s: any(m["topic"] == "wear" and m["msg"]["duty_cycles"] == n for m in s), 30)
     wear = [m["msg"] for m in seen if m["topic"] == "wear"][-1]
-    assert snap.wear_screw_m > 0 and snap.wear_nut_m > 0 and snap.wear_ball_m > 0
+    assert snap.screw_raceway_m > 0 and snap.nut_raceway_m > 0 and snap.ball_m > 0
     for name, attr in WEAR_FIELDS.items():
         assert rel(wear[name], getattr(snap, attr)) < 1e-9, (name, wear[name], getattr(snap, attr))
     duty = [m["msg"] for m in seen if m["topic"] == "duty_cycle"]
@@ -75,4 +76,4 @@ def test_node_wear_equals_the_offline_core_on_the_same_bag(  # noqa: PLR0917
     state, _note = load_state(tmp_path / "state" / STATE_FILE)
     resumed = MonitorCore(load_unit(), MonitorConfig(), state).snapshot()
     assert resumed.duty_cycles == n
-    assert rel(resumed.wear_screw_m, snap.wear_screw_m) < 1e-9
+    assert rel(resumed.screw_raceway_m, snap.screw_raceway_m) < 1e-9

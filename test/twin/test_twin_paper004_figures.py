@@ -41,11 +41,11 @@ def test_stiffness_of_eq6_from_table1_is_the_reference_unit_stiffness():
 
 def test_load_friction_and_motor_torque_at_30kN():
     tq = actuator_torques(UNIT, 30.0e3)
-    assert tq["load_torque_Nm"] == pytest.approx(2.364, abs=5e-4)  # 004 Sec. 1 / 4.1
-    assert tq["static_friction_torque_Nm"] == pytest.approx(0.884, abs=5e-4)  # Fig. 5b, T_fs + G F
-    assert tq["friction_torque_Nm"] == pytest.approx(0.849, abs=5e-4)  # Sec. 4.1, T_fc + G F
-    assert tq["motor_torque_Nm"] == pytest.approx(3.213, abs=5e-4)
-    assert tq["torque_transfer_ratio"] == pytest.approx(0.7356, abs=3e-4)
+    assert tq.load_torque_Nm == pytest.approx(2.364, abs=5e-4)  # 004 Sec. 1 / 4.1
+    assert tq.static_friction_torque_Nm == pytest.approx(0.884, abs=5e-4)  # Fig. 5b, T_fs + G F
+    assert tq.friction_torque_Nm == pytest.approx(0.849, abs=5e-4)  # Sec. 4.1, T_fc + G F
+    assert tq.motor_torque_Nm == pytest.approx(3.213, abs=5e-4)
+    assert tq.torque_transfer_ratio == pytest.approx(0.7356, abs=3e-4)
 
 
 def test_transfer_ratio_is_half_at_the_papers_5_9_kN():
@@ -54,12 +54,12 @@ def test_transfer_ratio_is_half_at_the_papers_5_9_kN():
     # T_fc + G F: the paper mixes the two (build/notes/twin.md)
     def static_ratio(force):
         tq = actuator_torques(UNIT, force)
-        return tq["load_torque_Nm"] / (tq["load_torque_Nm"] + tq["static_friction_torque_Nm"])
+        return tq.load_torque_Nm / (tq.load_torque_Nm + tq.static_friction_torque_Nm)
 
     assert static_ratio(5.85e3) < 0.5 < static_ratio(5.95e3)
-    assert actuator_torques(UNIT, 5.28e3)["torque_transfer_ratio"] < 0.5
-    assert actuator_torques(UNIT, 5.38e3)["torque_transfer_ratio"] > 0.5
-    ratios = [actuator_torques(UNIT, f)["torque_transfer_ratio"] for f in np.linspace(1e3, 40e3, 20)]
+    assert actuator_torques(UNIT, 5.28e3).torque_transfer_ratio < 0.5
+    assert actuator_torques(UNIT, 5.38e3).torque_transfer_ratio > 0.5
+    ratios = [actuator_torques(UNIT, f).torque_transfer_ratio for f in np.linspace(1e3, 40e3, 20)]
     assert np.all(np.diff(ratios) > 0)  # Fig. 10b: increasing with the clamp force
 
 
@@ -122,7 +122,7 @@ def test_30kN_step_energy_against_the_paper():
     So the twin's figures land within a factor of 2 and the balance closes exactly.
     """
     model = actuator_model(UNIT)
-    volts = model.resistance * actuator_torques(UNIT, 30.0e3)["motor_torque_Nm"] / model.torque_constant
+    volts = model.resistance * actuator_torques(UNIT, 30.0e3).motor_torque_Nm / model.torque_constant
     t = np.arange(0.0, 8.0, 1e-3)  # open-loop voltage step: creeps to 30 kN (τ ≈ 1 s)
     run = simulate_voltage_driven(model, t, np.full(t.size, volts))
     motor_angle = run.angle * model.gear_ratio
