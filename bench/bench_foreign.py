@@ -23,7 +23,7 @@ from pathlib import Path
 from rosbags.rosbag2 import Writer
 
 from ebm_wear_monitor.validation.foreign import case_set, write_case
-from ebm_wear_monitor.validation.foreign.bag import MSGTYPE, STORAGES, typestore
+from ebm_wear_monitor.validation.foreign.bag import MSGTYPE, storage_plugin, typestore
 
 
 def _baseline(path: Path, storage: str, count: int) -> float:
@@ -31,7 +31,7 @@ def _baseline(path: Path, storage: str, count: int) -> float:
     ts = typestore()
     record = bytes(40)
     t0 = time.perf_counter()
-    with Writer(path, version=9, storage_plugin=STORAGES[storage]) as writer:
+    with Writer(path, version=9, storage_plugin=storage_plugin(storage)) as writer:
         conns = [writer.add_connection(f"/b/t{k}", MSGTYPE, typestore=ts) for k in range(4)]
         for j in range(count):
             writer.write(conns[j % 4], 1000 * j, record)

@@ -5,6 +5,8 @@ Each subcommand lives in its own module ``ebm_wear_monitor.cli.<name>`` with
 when their subcommand runs, so ``ebm-wear calc`` never pays for Dask or rclpy.
 Bad input (:class:`~ebm_wear_monitor.errors.InputError`) becomes one line on
 stderr and exit status 2 (interface.md section 5); an interruption (Ctrl-C) exits with 130.
+``calc`` runs on the onboard install (``pip install .``); every other subcommand needs the
+``tools`` extra and says so in one line (exit 2) when it is missing (:mod:`ebm_wear_monitor.extras`).
 With ``--json -`` the JSON is the only thing on standard output: every line for people goes
 to standard error (:func:`ebm_wear_monitor.outputs.human_output_to_stderr`).
 """
@@ -20,6 +22,7 @@ from types import ModuleType
 
 from ebm_wear_monitor import __version__
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.extras import MissingExtraError, missing_message, provider, require
 
 #: subcommand (= module under ebm_wear_monitor.cli) -> one-line help
 SUBCOMMANDS: dict[str, str] = {
@@ -29,6 +32,8 @@ SUBCOMMANDS: dict[str, str] = {
     "simulate": "the digital twin of the actuator writing a rosbag2 bag",
     "calc": "calculators: ball contact, wear rate, actuator torques",
 }
+#: subcommands that run on the onboard install; the others need the ``tools`` extra
+ONBOARD_COMMANDS = frozenset({"calc"})
 
 
 def _load(name: str) -> ModuleType:
@@ -54,14 +59,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser(argv).parse_args(argv)
     try:
+        if args.command not in ONBOARD_COMMANDS:
+            require("tools")
         from ebm_wear_monitor.outputs import human_output_to_stderr  # (numpy: not for --help)
 
         with human_output_to_stderr(getattr(args, "json", None)):
             status = int(_load(args.command).run(args) or 0)
         sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at interpreter exit
         return status
-    except InputError as exc:
+    except (InputError, MissingExtraError) as exc:
         print(f"ebm-wear {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except ModuleNotFoundError as exc:  # a lazy import of an extra's module the check above did not cover
+        found = provider(exc.name)
+        if found is None:
+            raise
+        print(f"ebm-wear {args.command}: error: {missing_message(found[0], [found[1]])}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"ebm-wear {args.command}: interrupted", file=sys.stderr)

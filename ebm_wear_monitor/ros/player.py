@@ -29,7 +29,8 @@ Command line (``python -m ebm_wear_monitor.ros.player BAG... [--speed S] ...``):
 It waits only for subscriptions on the topics the wear monitor reads (a published
 ``motor/current`` has no such subscriber). Exit status: 0 when everything was published, 2 on
 bad input or when no subscriber appeared (one line on stderr, naming the topics it waited for),
-130 when interrupted (Ctrl-C).
+130 when interrupted (Ctrl-C). It reads bags, so it needs the ``tools`` extra (one line, exit 2,
+without it); the node and the listener run on the onboard install.
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from rclpy.publisher import Publisher
 from rclpy.signals import SignalHandlerOptions
 
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.extras import MissingExtraError, require
 from ebm_wear_monitor.monitor.alignment import SIGNALS as MONITOR_SIGNALS
 from ebm_wear_monitor.monitor.wire import INPUT_TOPICS, check_namespace, encode_records, seconds_to_ns
 from ebm_wear_monitor.ros.qos import input_qos
@@ -209,8 +211,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point: play bags; exit 0, 2 (one line on bad input or no subscriber) or 130 (interrupted)."""
     args = _parser().parse_args(argv)
     try:
+        require("tools")
         return _play(args)
-    except InputError as exc:
+    except (InputError, MissingExtraError) as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

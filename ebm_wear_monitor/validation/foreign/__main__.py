@@ -2,12 +2,13 @@
 
 Writes every case of a set (one rosbag2 directory with ``ground_truth.json`` each), printing one
 progress line per recording with its generation time; ``list`` prints the cases. Exit status 2
-with a one-line reason on bad input.
+with a one-line reason on bad input, or when rosbags (the ``tools`` extra) is not installed.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -37,6 +38,10 @@ def main(argv: list[str] | None = None) -> int:
     lst = sub.add_parser("list", help="print the cases of a set")
     lst.add_argument("--set", required=True, choices=SETS, dest="set_name")
     args = parser.parse_args(argv)
+    if args.command == "write" and importlib.util.find_spec("rosbags") is None:
+        print(f"{PROG}: error: needs the 'tools' extra (not installed: rosbags): "
+              "pip install 'ebm_wear_monitor[tools]'", file=sys.stderr)
+        return 2
     cases = case_set(args.set_name)
     if args.command == "list":
         for c in cases:

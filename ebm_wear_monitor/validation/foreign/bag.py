@@ -5,7 +5,7 @@ that). Messages are serialised in bulk: one record is serialised by the typestor
 then stamps and values are written into copies of it with numpy (little-endian CDR: 4-byte
 encapsulation header, ``int32 sec``, ``uint32 nanosec``, the frame_id string, padding, ``float64``).
 Every message goes to the bag at its log time (stamp plus the acquisition lag), all topics merged
-in log-time order.
+in log-time order. rosbags (the ``tools`` extra) is imported only when a bag is written.
 """
 
 from __future__ import annotations
@@ -16,17 +16,23 @@ import shutil
 from pathlib import Path
 
 import numpy as np
-from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 MSGTYPE = "ebm_wear_msgs/msg/Float64Stamped"
 #: The message definition of interface.md section 1, exactly.
 MSG_TEXT = "std_msgs/Header header\nfloat64 data\n"
-STORAGES = {"sqlite3": StoragePlugin.SQLITE3, "mcap": StoragePlugin.MCAP}
+#: storage name -> rosbags' StoragePlugin member
+STORAGES = {"sqlite3": "SQLITE3", "mcap": "MCAP"}
+
+
+def storage_plugin(storage: str):
+    """rosbags' ``StoragePlugin`` of a storage name (``sqlite3``, ``mcap``)."""
+    from rosbags.rosbag2 import StoragePlugin
+    return StoragePlugin[STORAGES[storage]]
 
 
 def typestore():
     """A ROS 2 typestore with ``ebm_wear_msgs/msg/Float64Stamped`` registered from its text."""
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
     ts = get_typestore(Stores.ROS2_KILTED)
     ts.register(get_types_from_msg(MSG_TEXT, MSGTYPE))
     return ts
@@ -55,6 +61,7 @@ def write_bag(path: Path, storage: str, topics: dict[str, tuple[np.ndarray, np.n
     ``topics`` maps a full topic name to ``(stamps_ns, log_ns, values, frame_id)``; ``extra``
     maps further file names (inside the bag directory) to their text.
     """
+    from rosbags.rosbag2 import Writer
     path = Path(path)
     work = path.with_name(f".{path.name}.partial")
     shutil.rmtree(work, ignore_errors=True)
@@ -71,7 +78,7 @@ def write_bag(path: Path, storage: str, topics: dict[str, tuple[np.ndarray, np.n
         which.append(np.full(len(stamps), k))
     log_all, idx_all, which_all = (np.concatenate(x) for x in (logs, idx, which))
     order = np.argsort(log_all, kind="stable")
-    with Writer(tmp, version=9, storage_plugin=STORAGES[storage]) as writer:
+    with Writer(tmp, version=9, storage_plugin=storage_plugin(storage)) as writer:
         conns = [writer.add_connection(name, MSGTYPE, typestore=ts) for name in names]
         rows = [[r.tobytes() for r in rec] for rec in recs]
         for j in order:
