@@ -60,6 +60,7 @@ the median topic's by more than ``stale_after_s`` stops holding the others back
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -177,7 +178,7 @@ class InputAligner:
         if stamps.size:
             self._topics[signal].raw.append((stamps.copy(), values.copy()))
 
-    def count(self, signal: str, kind: str, n: int) -> None:
+    def count(self, signal: str, kind: str, n: int | np.integer[Any]) -> None:
         """Add ``n`` faults of ``kind`` to topic ``signal`` (or "stream")."""
         if n:
             self.faults[signal][kind] = self.faults[signal].get(kind, 0) + int(n)
@@ -382,7 +383,8 @@ class InputAligner:
         """Accepted samples per second of stamp span, per topic (None before two samples)."""
         out: dict[str, float | None] = {}
         for signal, t in self._topics.items():
-            span = (t.last_ns - t.first_ns) * 1e-9 if t.first_ns is not None else 0.0
+            first, last = t.first_ns, t.last_ns
+            span = (last - first) * 1e-9 if first is not None and last is not None else 0.0
             out[signal] = (t.accepted - 1) / span if span > 0 else None
         return out
 

@@ -259,7 +259,7 @@ class Bank:
         """Fuse one observation (innovations from :meth:`innovation`); returns the gains K (M, 3)."""
         prior_cc = self.P[:, 0, 0].copy()
         r = S - prior_cc
-        K = self.P[:, :, 0] / S[:, None]
+        K: np.ndarray = self.P[:, :, 0] / S[:, None]
         self.x = self.x + K * y[:, None]
         A = np.broadcast_to(np.eye(DIM), self.P.shape).copy()
         A[:, :, 0] -= K
@@ -279,8 +279,9 @@ class Bank:
 
     # ---------------------------------------------------------------- summaries
     def weights(self) -> np.ndarray:
-        w = np.exp(self.logw - np.max(self.logw))
-        return w / w.sum()
+        w: np.ndarray = np.exp(self.logw - np.max(self.logw))
+        normalised: np.ndarray = w / w.sum()
+        return normalised
 
     def clearance(self) -> tuple[float, float]:
         """Mixture mean and standard deviation of the clearance [m]."""

@@ -79,7 +79,8 @@ def _first_passage(hyp: Hypotheses, bank: Bank, keep: np.ndarray, n: np.ndarray,
     growth, var_growth, cov = hyp.moments(bank, n, mean_growth_m, keep)
     mean = bank.x[keep, 0] + growth
     var = bank.P[keep, 0, 0] + 2.0 * cov + var_growth
-    return ndtr((mean - limit_m) / np.sqrt(np.maximum(var, 1e-300)))
+    phi: np.ndarray = ndtr((mean - limit_m) / np.sqrt(np.maximum(var, 1e-300)))
+    return phi
 
 
 def life_quantiles(hyp: Hypotheses, bank: Bank, limit_m: float, mean_growth_m: float,

@@ -129,7 +129,8 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s
 
     def band(stroke: np.ndarray) -> np.ndarray:
         f = seg.force[stroke]
-        return stroke[(f >= lo) & (f <= hi) & np.isfinite(rate[stroke])]
+        kept: np.ndarray = stroke[(f >= lo) & (f <= hi) & np.isfinite(rate[stroke])]
+        return kept
 
     apply_, release = band(_stroke(seg, FG, first=True)), band(_stroke(seg, FR, first=False))
     n = apply_.size

@@ -80,6 +80,7 @@ segment are ``REST``. The monitor's own path does not record them.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -120,7 +121,8 @@ class Segment:
     @property
     def phase_durations_s(self) -> tuple[float, float, float, float]:
         """Durations of the four phases of 000 Fig. 2 [s]."""
-        return tuple(float(v) * 1e-9 for v in self.phase_ns[:4])  # type: ignore[return-value]
+        ce, fg, fm, fr = (float(v) * 1e-9 for v in self.phase_ns[:4])
+        return ce, fg, fm, fr
 
 
 @dataclass
@@ -138,6 +140,15 @@ class _Open:
     angle_at_peak: float = np.nan
     reached_force: bool = False
     last_direction: float = 0.0  # sign of the last moving sample (0: no move yet)
+
+
+class _ForceWindow(NamedTuple):
+    """Force conditions over samples [lo, hi) of a batch at rest level ``b`` [N]: name -> indices."""
+
+    b: float
+    lo: int
+    hi: int
+    at: dict[str, np.ndarray]
 
 
 class Segmenter:
@@ -159,7 +170,7 @@ class Segmenter:
         self._prev_ns: int | None = None
         self._prev_angle = 0.0
         self._gap_ns: int | None = None  # stamp of the last gap already handled
-        self._fc: dict | None = None
+        self._fc: _ForceWindow | None = None
 
     def configure(self, config: MonitorConfig, thresholds: Thresholds) -> None:
         """Apply (possibly changed) thresholds from the next :meth:`feed` on."""
@@ -207,8 +218,9 @@ class Segmenter:
         # an approach that stopped short of the pads (incomplete) leaves the home position where it
         # was: the next application's clearance is counted from there, not from the stop on the way
         self._home = (seg.rest_angle, seg.baseline) if kind == "incomplete" else (np.nan, np.nan)
-        out.append(Segment(kind, seg.start_ns, end_ns, seg.phase_ns, *arrays,
-                           peak_force=float(seg.peak_force), angle_at_peak_force=seg.angle_at_peak,
+        angle, velocity, force, dt, dangle, label = arrays
+        out.append(Segment(kind, seg.start_ns, end_ns, seg.phase_ns, angle, velocity, force, dt, dangle,
+                           label, peak_force=float(seg.peak_force), angle_at_peak_force=seg.angle_at_peak,
                            rest_angle=seg.rest_angle, force_baseline=seg.baseline))
 
     def _kind_at_rest(self) -> str:
@@ -222,34 +234,33 @@ class Segmenter:
         j = int(np.searchsorted(idx, p))
         return int(idx[j]) if j < idx.size else self._n
 
-    def _force_window(self, lo: int, hi: int) -> dict:
+    def _force_window(self, lo: int, hi: int) -> _ForceWindow:
         """Index arrays of the force conditions over [lo, hi) at the open segment's rest level."""
         s, th, b = self._s, self.th, self._open.baseline
         f = s["force"][lo:hi] - b
         slow = s["slow"][lo:hi]
         held_rest = slow & (f < th.force_off)
-        self._fc = {
-            "b": b, "lo": lo, "hi": hi,
+        self._fc = _ForceWindow(b, lo, hi, {
             "i_fon": np.flatnonzero(f > th.force_on) + lo,
             "i_posf": np.flatnonzero((s["velocity"][lo:hi] > th.omega_on) & (f > th.force_on)) + lo,
             "i_released": np.flatnonzero(held_rest) + lo,
             "i_notreleased": np.flatnonzero(~held_rest) + lo,
-        }
+        })
         return self._fc
 
     def _next_force(self, name: str, p: int) -> int:
         """First index >= p of a force condition (relative to the rest level), evaluated lazily."""
         n, c = self._n, self._fc
-        if c is None or c["b"] != self._open.baseline or not c["lo"] <= p < c["hi"]:
+        if c is None or c.b != self._open.baseline or not c.lo <= p < c.hi:
             c = self._force_window(p, min(n, p + _FORCE_WINDOW))
         while True:
-            idx = c[name]
+            idx = c.at[name]
             j = int(np.searchsorted(idx, p))
             if j < idx.size:
                 return int(idx[j])
-            if c["hi"] >= n:
+            if c.hi >= n:
                 return n
-            c = self._force_window(c["lo"], min(n, c["lo"] + 2 * (c["hi"] - c["lo"])))
+            c = self._force_window(c.lo, min(n, c.lo + 2 * (c.hi - c.lo)))
 
     def _dwell(self, r: int, e: int, run_end: int) -> tuple[int, int]:
         """Does the stop starting at ``r`` (ending at ``run_end``, gap-free range up to ``e``) last?"""
@@ -301,7 +312,9 @@ class Segmenter:
         while p < n:
             if gap[p] and self._gap_ns != int(t[p]):
                 self._gap_ns = int(t[p])
-                self._on_gap(int(t[p - 1]) if p > 0 else int(self._prev_ns), out)
+                before = int(t[p - 1]) if p > 0 else self._prev_ns
+                if before is not None:  # (a gap is seen only after released samples: always)
+                    self._on_gap(before, out)
             e = self._next("i_gap", p + 1)
             p, stop = self._step(p, e, out)
             if stop:
@@ -468,7 +481,8 @@ def label_samples(t: np.ndarray, angle: np.ndarray, velocity: np.ndarray, force:
         raise InputError("label_samples: stamps must increase strictly")
     gap = np.concatenate(([False], dt_ns > round(config.gap_s * 1e9)))
     seg = _LabellingSegmenter(config, thresholds, force_baseline)
-    segments = seg.feed(AlignedBatch(t_ns, *arrays, gap), final=True)
+    angle_, velocity_, force_ = arrays
+    segments = seg.feed(AlignedBatch(t_ns, angle_, velocity_, force_, gap), final=True)
     phase = np.full(n, REST, np.int8)
     for a, b, label in seg.spans:  # one entry per phase stretch, not per sample
         phase[a:b] = label

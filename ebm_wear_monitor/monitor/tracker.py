@@ -99,7 +99,7 @@ class Record:
     step: bool = False  # the clearance may jump before this observation
     change: bool = False  # the growth rate may jump before this observation
 
-    def to_list(self) -> list:
+    def to_list(self) -> list[float | bool | None]:
         z, r = (None if math.isnan(v) else v for v in (self.observed_m, self.budget_var_m2))
         return [self.growth_m, z, r, self.step, self.change]
 

@@ -21,11 +21,14 @@ import math
 from dataclasses import asdict, dataclass, field, fields
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal, TypeVar, overload
 
 import yaml
 
 from ebm_wear_monitor.errors import InputError
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 REFERENCE_UNITS = {"embu_000": "embu_000.yaml", "screw_003": "screw_003.yaml"}
 #: blocks of a unit file (interface.md section 3); ``monitor`` is optional everywhere (defaults)
@@ -222,9 +225,22 @@ def _section(data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
     return value
 
 
+@overload
+def _number(sec: dict[str, Any], key: str, where: str, *, required: Literal[True] = ...,
+            positive: bool = ..., nonnegative: bool = ..., lo: float | None = ..., hi: float | None = ...,
+            default: float | None = ...) -> float: ...
+@overload
+def _number(sec: dict[str, Any], key: str, where: str, *, required: bool, positive: bool = ...,
+            nonnegative: bool = ..., lo: float | None = ..., hi: float | None = ...,
+            default: float) -> float: ...
+@overload
+def _number(sec: dict[str, Any], key: str, where: str, *, required: bool, positive: bool = ...,
+            nonnegative: bool = ..., lo: float | None = ..., hi: float | None = ...,
+            default: None = ...) -> float | None: ...
 def _number(sec: dict[str, Any], key: str, where: str, *, required: bool = True,
             positive: bool = True, nonnegative: bool = False, lo: float | None = None,
             hi: float | None = None, default: float | None = None) -> float | None:
+    """A finite number ``sec[key]`` within the checks, or ``default`` when absent and not ``required``."""
     if key not in sec or sec[key] is None:
         if required:
             raise ParamError(f"{where}: missing key '{key}'")
@@ -249,12 +265,13 @@ def _number(sec: dict[str, Any], key: str, where: str, *, required: bool = True,
     return number
 
 
+_T = TypeVar("_T", bound="DataclassInstance")
 _AT_LEAST_ZERO = {"positive": False, "nonnegative": True}
 
 
-def _build(cls: type, sec: dict[str, Any], where: str, rules: dict[str, dict[str, Any]]) -> Any:
+def _build(cls: type[_T], sec: dict[str, Any], where: str, rules: dict[str, dict[str, Any]]) -> _T:
     """Build dataclass ``cls`` from ``sec`` taking numeric fields through :func:`_number`."""
-    kwargs = {}
+    kwargs: dict[str, float | None] = {}
     for f in fields(cls):
         if f.name in rules:
             kwargs[f.name] = _number(sec, f.name, where, **rules[f.name])
@@ -295,7 +312,8 @@ def unit_from_dict(data: Any, where: str = "unit", blocks: tuple[str, ...] | Non
         "contact_angle_deg": {"hi": 90.0},
         "helix_angle_deg": {"required": False, "hi": 45.0},
         "dynamic_load_rating": {"required": False},
-    } | {"effective_balls": {}})
+        "effective_balls": {},
+    })
     if float(ball_screw.effective_balls) != int(ball_screw.effective_balls):
         raise ParamError(f"{w}.effective_balls: must be a whole number, got {ball_screw.effective_balls:g}")
     ball_screw = BallScrew(**(asdict(ball_screw) | {"effective_balls": int(ball_screw.effective_balls)}))

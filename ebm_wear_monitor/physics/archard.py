@@ -36,24 +36,26 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ebm_wear_monitor.arrays import FloatArray, Floats
 from ebm_wear_monitor.params.unit import UnitParams
 
 
-def wear_rate(k_slip: float, q: ArrayLike, v: ArrayLike, yield_strength: float, area: ArrayLike) -> NDArray:
+def wear_rate(k_slip: float, q: Floats, v: Floats, yield_strength: float, area: Floats) -> FloatArray:
     """000 eq. 23: wear-depth rate dh/dt = k_slip Q V / (3 sigma_s A_c) [m/s] (0 where A_c = 0)."""
-    num = k_slip * np.asarray(q, dtype=float) * np.asarray(v, dtype=float)
-    den = 3.0 * yield_strength * np.asarray(area, dtype=float)
-    return np.divide(num, den, out=np.zeros(np.broadcast(num, den).shape), where=den > 0.0)
+    num = k_slip * np.asarray(q, dtype=np.float64) * np.asarray(v, dtype=np.float64)
+    den = 3.0 * yield_strength * np.asarray(area, dtype=np.float64)
+    out: FloatArray = np.zeros(np.broadcast(num, den).shape)
+    return np.divide(num, den, out=out, where=den > 0.0)
 
 
-def ball_rate(screw_rate: ArrayLike, nut_rate: ArrayLike, raceway_share: float) -> NDArray:
+def ball_rate(screw_rate: Floats, nut_rate: Floats, raceway_share: float) -> FloatArray:
     """Ball radius wear rate ((1 - s)/s) (dh_s + dh_n)/2 from the 2/3 : 1/3 split of 000 Sec. 4.1 [m/s]."""
-    return (1.0 - raceway_share) / raceway_share * 0.5 * (np.asarray(screw_rate) + np.asarray(nut_rate))
+    return (1.0 - raceway_share) / raceway_share * 0.5 * (np.asarray(screw_rate, dtype=np.float64)
+                                                                 + np.asarray(nut_rate, dtype=np.float64))
 
 
-def clearance_growth(unit: UnitParams, screw_m: ArrayLike, nut_m: ArrayLike, ball_m: ArrayLike) -> NDArray:
+def clearance_growth(unit: UnitParams, screw_m: Floats, nut_m: Floats, ball_m: Floats) -> FloatArray:
     """Axial clearance growth dx = (h_s + h_n + 2 h_b) / (sin(alpha_0) cos(phi)) [m] from wear depths [m].
 
     Not an equation of 000 (which names the clearance growth only, Sec. 2): the axial projection of
@@ -63,5 +65,5 @@ def clearance_growth(unit: UnitParams, screw_m: ArrayLike, nut_m: ArrayLike, bal
     """
     bs = unit.ball_screw
     axial = math.sin(bs.contact_angle) * math.cos(bs.helix_angle)
-    return (np.asarray(screw_m, dtype=float) + np.asarray(nut_m, dtype=float)
-            + 2.0 * np.asarray(ball_m, dtype=float)) / axial
+    return (np.asarray(screw_m, dtype=np.float64) + np.asarray(nut_m, dtype=np.float64)
+            + 2.0 * np.asarray(ball_m, dtype=np.float64)) / axial

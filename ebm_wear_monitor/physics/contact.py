@@ -11,8 +11,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
 
+from ebm_wear_monitor.arrays import BoolArray, FloatArray
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params.unit import UnitParams
 from ebm_wear_monitor.physics.archard import wear_rate
@@ -25,16 +25,16 @@ from ebm_wear_monitor.physics.plasticity import contact_area
 class SideState(NamedTuple):
     """State of one contact (screw or nut raceway), arrays over samples."""
 
-    normal_load: NDArray  # Q [N]
-    alpha: NDArray  # loaded contact angle [rad]
-    deformation: NDArray  # delta [m]
-    area: NDArray  # A_c [m^2]
-    plastic: NDArray  # elastic-plastic contact (bool)
-    sliding_velocity: NDArray  # V [m/s]
-    wear_rate: NDArray  # dh/dt [m/s]
+    normal_load: FloatArray  # Q [N]
+    alpha: FloatArray  # loaded contact angle [rad]
+    deformation: FloatArray  # delta [m]
+    area: FloatArray  # A_c [m^2]
+    plastic: BoolArray  # elastic-plastic contact (bool)
+    sliding_velocity: FloatArray  # V [m/s]
+    wear_rate: FloatArray  # dh/dt [m/s]
 
 
-def area_radius(unit: UnitParams, sum_rho: NDArray, reading: str) -> NDArray:
+def area_radius(unit: UnitParams, sum_rho: FloatArray, reading: str) -> FloatArray:
     """R of 000 eq. 6-7 under the chosen reading (see :mod:`plasticity`) [m]."""
     if reading == "hertz":
         return 2.0 / sum_rho
@@ -53,6 +53,8 @@ def side_state(unit: UnitParams, geo: ScrewGeometry, eq: Equilibrium, side: str,
         q, alpha, delta, v, mat = eq.q_s, eq.alpha_s, eq.delta_s, eq.motion.v_screw, unit.materials.screw
     else:
         q, alpha, delta, v, mat = eq.q_n, eq.alpha_n, eq.delta_n, eq.motion.v_nut, unit.materials.nut
+    if mat.hardness is None or mat.yield_strength is None:  # load_unit requires both for raceways
+        raise InputError(f"the {side} raceway material needs hardness and yield_strength (000 eq. 6, 23)")
     c = curvature(geo, side, alpha)
     ca = contact_area(delta, c.gamma, area_radius(unit, c.sum_rho, options.radius), hardness=mat.hardness,
                       poisson_ratio=softer_poisson(unit, side), e_red=geo.modulus(side),
@@ -66,7 +68,7 @@ def softer_poisson(unit: UnitParams, side: str) -> float:
     return (unit.materials.screw if side == SCREW else unit.materials.nut).poisson_ratio
 
 
-def solve(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
+def solve(unit: UnitParams, axial_force: FloatArray, omega_s: FloatArray,
           options: ModelOptions) -> tuple[Equilibrium, SideState, SideState]:
     """Fig. 6 equilibrium (000 eq. 1-5, 8-18) plus screw and nut contact states (000 eq. 6-7, 19-23)
     for loaded samples: axial force F_a [N] > 0 and screw speed omega_s [rad/s], both finite."""

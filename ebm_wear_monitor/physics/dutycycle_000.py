@@ -24,7 +24,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+
+from ebm_wear_monitor.arrays import FloatArray, IntArray
 
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
 
@@ -49,7 +50,7 @@ class DutyCycle000:
                             self.t_ramp * time, self.t_clear * time, self.t_force * time,
                             self.t_hold * time, self.t_decay * time, self.dt)
 
-    def sample(self) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    def sample(self) -> tuple[FloatArray, FloatArray, FloatArray, IntArray]:
         """(t [s], axial force [N], screw speed [rad/s], phase index into PHASES) at step dt, midpoints."""
         apply_angle = 0.5 * self.w_max * self.t_force  # screw angle of force generation [rad]
         ramp_angle = 0.5 * self.w_max * (self.t_ramp + self.t_decay)
@@ -87,7 +88,7 @@ class DutyCycle000:
         return t, f, w, phase
 
 
-def cycle_wear(rates_fn: Callable[[NDArray, NDArray], Any],
+def cycle_wear(rates_fn: Callable[[FloatArray, FloatArray], Any],
                cycle: DutyCycle000 | None = None) -> dict[str, float]:
     """Wear depths [m] of one duty cycle: sum of rates * dt (000 Sec. 4.1), totals and per phase group.
 

@@ -43,8 +43,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
 
+from ebm_wear_monitor.arrays import FloatArray
 from ebm_wear_monitor.params.unit import UnitParams
 from ebm_wear_monitor.physics.friction import equivalent_friction
 from ebm_wear_monitor.physics.geometry import NUT, SCREW, ScrewGeometry, curvature
@@ -54,22 +54,22 @@ from ebm_wear_monitor.physics.options import ModelOptions
 
 
 class Equilibrium(NamedTuple):
-    alpha_s: NDArray  # loaded contact angle at the screw [rad]
-    alpha_n: NDArray  # loaded contact angle at the nut [rad]
-    q_s: NDArray  # normal load screw contact [N]
-    q_n: NDArray  # normal load nut contact [N]
-    delta_s: NDArray  # Hertz approach screw contact [m]
-    delta_n: NDArray  # Hertz approach nut contact [m]
-    mu_s: NDArray  # equivalent friction coefficient screw contact [-]
-    mu_n: NDArray  # equivalent friction coefficient nut contact [-]
-    axial_approach: NDArray  # theta' R* + delta_a [m]
+    alpha_s: FloatArray  # loaded contact angle at the screw [rad]
+    alpha_n: FloatArray  # loaded contact angle at the nut [rad]
+    q_s: FloatArray  # normal load screw contact [N]
+    q_n: FloatArray  # normal load nut contact [N]
+    delta_s: FloatArray  # Hertz approach screw contact [m]
+    delta_n: FloatArray  # Hertz approach nut contact [m]
+    mu_s: FloatArray  # equivalent friction coefficient screw contact [-]
+    mu_n: FloatArray  # equivalent friction coefficient nut contact [-]
+    axial_approach: FloatArray  # theta' R* + delta_a [m]
     motion: BallMotion  # kinematics at the converged angles
     iterations: int  # Fig. 6 iterations used
     converged: bool = True  # False when max_iter ran out before the change fell below rel_tol
 
 
-def _friction(unit: UnitParams, geo: ScrewGeometry, side: str, *, q: NDArray, alpha: NDArray,
-              u: NDArray) -> NDArray:
+def _friction(unit: UnitParams, geo: ScrewGeometry, side: str, *, q: FloatArray, alpha: FloatArray,
+              u: FloatArray) -> FloatArray:
     c = curvature(geo, side, alpha)
     lub = unit.lubricant
     return equivalent_friction(q, u, c.r_x, c.gamma, e_red=geo.modulus(side), viscosity=lub.viscosity,
@@ -78,16 +78,16 @@ def _friction(unit: UnitParams, geo: ScrewGeometry, side: str, *, q: NDArray, al
                                boundary_friction=unit.wear.boundary_friction)
 
 
-def _max_rel(new: NDArray, old: NDArray) -> float:
+def _max_rel(new: FloatArray, old: FloatArray) -> float:
     return float(np.max(np.abs(new - old) / np.maximum(new, 1e-300), initial=0.0))
 
 
-def solve_equilibrium(unit: UnitParams, axial_force: NDArray, omega_s: NDArray,
+def solve_equilibrium(unit: UnitParams, axial_force: FloatArray, omega_s: FloatArray,
                       options: ModelOptions, geo: ScrewGeometry | None = None) -> Equilibrium:
     """Fig. 6 iteration for arrays of axial force F_a > 0 [N] and screw speed |w_s| [rad/s]."""
     geo = geo or ScrewGeometry.from_unit(unit)
-    f_a = np.asarray(axial_force, dtype=float)
-    w_s = np.abs(np.asarray(omega_s, dtype=float))
+    f_a = np.asarray(axial_force, dtype=np.float64)
+    w_s = np.abs(np.asarray(omega_s, dtype=np.float64))
     p = f_a / (geo.z * math.cos(geo.phi))
     a0 = geo.alpha0
     a_s = np.full_like(f_a, a0)

@@ -22,46 +22,51 @@ falling linearly to 0 at Lambda = 3 (full film). The equivalent coefficient
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+
+from ebm_wear_monitor.arrays import FloatArray, Floats
 
 FULL_FILM_LAMBDA = 3.0  # film parameter above which asperities carry no load
 
 
-def viscous_drag(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, e_red: float,
-                 viscosity: float, pressure_viscosity: float) -> NDArray:
+def viscous_drag(q: Floats, u: Floats, r_x: Floats, k: Floats, *, e_red: float,
+                 viscosity: float, pressure_viscosity: float) -> FloatArray:
     """000 eq. 13: lubricant rolling drag f_0 [N] at normal load q [N], entrainment speed u [m/s]."""
     e1 = 2.0 * e_red
-    q = np.maximum(np.asarray(q, dtype=float), 0.0)
-    u = np.abs(np.asarray(u, dtype=float))
-    return (2.86 * e1 * r_x**2 * np.power(k, 0.348) * (pressure_viscosity * e1) ** 0.022
+    q = np.maximum(np.asarray(q, dtype=np.float64), 0.0)
+    u = np.abs(np.asarray(u, dtype=np.float64))
+    r_x, k = np.asarray(r_x, dtype=np.float64), np.asarray(k, dtype=np.float64)
+    return (2.86 * e1 * r_x**2 * np.power(k, 0.348) * math.pow(pressure_viscosity * e1, 0.022)
             * np.power(viscosity * u / (e1 * r_x), 0.66) * np.power(q / (e1 * r_x**2), 0.47))
 
 
-def film_thickness(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, e_red: float,
-                   viscosity: float, pressure_viscosity: float) -> NDArray:
+def film_thickness(q: Floats, u: Floats, r_x: Floats, k: Floats, *, e_red: float,
+                   viscosity: float, pressure_viscosity: float) -> FloatArray:
     """Hamrock-Dowson central film thickness h_c [m] (0 at zero speed), for F_aN left open by 000 eq. 14.
 
     ``h_c = 2.69 R U^0.67 G^0.53 W^-0.067 (1 - 0.61 exp(-0.73 k))`` with the groups of the module docstring.
     """
     e1 = 2.0 * e_red
-    q = np.maximum(np.asarray(q, dtype=float), 1e-30)
-    u = np.abs(np.asarray(u, dtype=float))
-    return (2.69 * r_x * np.power(viscosity * u / (e1 * r_x), 0.67) * (pressure_viscosity * e1) ** 0.53
+    q = np.maximum(np.asarray(q, dtype=np.float64), 1e-30)
+    u = np.abs(np.asarray(u, dtype=np.float64))
+    r_x, k = np.asarray(r_x, dtype=np.float64), np.asarray(k, dtype=np.float64)
+    return (2.69 * r_x * np.power(viscosity * u / (e1 * r_x), 0.67) * math.pow(pressure_viscosity * e1, 0.53)
             * np.power(q / (e1 * r_x**2), -0.067) * (1.0 - 0.61 * np.exp(-0.73 * np.asarray(k))))
 
 
-def asperity_share(film: ArrayLike, roughness: float) -> NDArray:
+def asperity_share(film: Floats, roughness: float) -> FloatArray:
     """psi = F_aN / Q of 000 eq. 14: 1 in boundary lubrication, 0 from Lambda = h_c / R_A >= 3 (linear
     between) [-]; ``film`` h_c [m], ``roughness`` R_A [m]."""
     return np.clip(1.0 - np.asarray(film) / (FULL_FILM_LAMBDA * roughness), 0.0, 1.0)
 
 
-def equivalent_friction(q: ArrayLike, u: ArrayLike, r_x: ArrayLike, k: ArrayLike, *, e_red: float,
+def equivalent_friction(q: Floats, u: Floats, r_x: Floats, k: Floats, *, e_red: float,
                         viscosity: float, pressure_viscosity: float, roughness: float,
-                        boundary_friction: float) -> NDArray:
+                        boundary_friction: float) -> FloatArray:
     """mu_e = mu_a psi + mu_0 (1 - psi) of 000 eq. 13-14 [-]."""
-    q = np.asarray(q, dtype=float)
+    q = np.asarray(q, dtype=np.float64)
     groups = {"e_red": e_red, "viscosity": viscosity, "pressure_viscosity": pressure_viscosity}
     psi = asperity_share(film_thickness(q, u, r_x, k, **groups), roughness)
     drag = viscous_drag(q, u, r_x, k, **groups)

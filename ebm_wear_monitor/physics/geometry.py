@@ -27,8 +27,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ebm_wear_monitor.arrays import FloatArray, Floats
 from ebm_wear_monitor.params.unit import Material, UnitParams
 
 SCREW = "screw"
@@ -93,17 +93,17 @@ class ScrewGeometry:
 class Curvature:
     """Curvatures of one contact (000 Table 1), arrays broadcast like the contact angle."""
 
-    rho_1: NDArray  # raceway curvature along the ball path [1/m]
-    rho_2: NDArray  # raceway curvature across the groove [1/m]
-    sum_rho: NDArray  # curvature sum [1/m]
-    gamma: NDArray  # effective curvature ratio R_y / R_x [-]
-    r_x: NDArray  # equivalent radius in the rolling direction 1/(rho_b + rho_1) [m]
-    r_y: NDArray  # transverse equivalent radius 1/(rho_b + rho_2) [m]
+    rho_1: FloatArray  # raceway curvature along the ball path [1/m]
+    rho_2: FloatArray  # raceway curvature across the groove [1/m]
+    sum_rho: FloatArray  # curvature sum [1/m]
+    gamma: FloatArray  # effective curvature ratio R_y / R_x [-]
+    r_x: FloatArray  # equivalent radius in the rolling direction 1/(rho_b + rho_1) [m]
+    r_y: FloatArray  # transverse equivalent radius 1/(rho_b + rho_2) [m]
 
 
-def curvature(geo: ScrewGeometry, side: str, alpha: ArrayLike) -> Curvature:
+def curvature(geo: ScrewGeometry, side: str, alpha: Floats) -> Curvature:
     """000 Table 1 for the screw or nut contact at contact angle ``alpha`` [rad]."""
-    cos_a = np.cos(np.asarray(alpha, dtype=float))
+    cos_a = np.cos(np.asarray(alpha, dtype=np.float64))
     rho_b = 1.0 / geo.r_b
     if side == SCREW:
         rho_1 = cos_a / (geo.d_m / 2.0 - geo.r_b * cos_a)

@@ -42,8 +42,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ebm_wear_monitor.arrays import FloatArray, Floats
 from ebm_wear_monitor.physics.geometry import ScrewGeometry
 
 KINEMATICS = ("literal", "rolling")
@@ -51,33 +51,33 @@ GYROSCOPIC_ANGLE = math.radians(47.0)  # beta_b, 000 Sec. 3.2 (46-48 deg below 1
 
 
 class BallMotion(NamedTuple):
-    omega_m: NDArray  # orbit (cyclic) angular velocity of the ball [rad/s], 000 eq. 8
-    omega_r: NDArray  # spin angular velocity of the ball [rad/s], 000 eq. 9
-    centrifugal: NDArray  # F_c [N], 000 eq. 12
-    v_screw: NDArray  # sliding speed at the screw contact [m/s], 000 eq. 19
-    v_nut: NDArray  # sliding speed at the nut contact [m/s], 000 eq. 19
+    omega_m: FloatArray  # orbit (cyclic) angular velocity of the ball [rad/s], 000 eq. 8
+    omega_r: FloatArray  # spin angular velocity of the ball [rad/s], 000 eq. 9
+    centrifugal: FloatArray  # F_c [N], 000 eq. 12
+    v_screw: FloatArray  # sliding speed at the screw contact [m/s], 000 eq. 19
+    v_nut: FloatArray  # sliding speed at the nut contact [m/s], 000 eq. 19
 
 
-def orbit_speed(geo: ScrewGeometry, omega_s: ArrayLike, a_s: ArrayLike, a_n: ArrayLike,
-                beta: float = GYROSCOPIC_ANGLE) -> NDArray:
+def orbit_speed(geo: ScrewGeometry, omega_s: Floats, a_s: Floats, a_n: Floats,
+                beta: float = GYROSCOPIC_ANGLE) -> FloatArray:
     """000 eq. 8: orbit angular velocity w_m [rad/s] of the ball centre for screw speed w_s."""
     g, tb = geo.gamma_prime, math.tan(beta)
     cs, cn = np.cos(a_s), np.cos(a_n)
     ratio = (1.0 + g * cn) * (cs + tb * np.sin(a_s)) / ((1.0 - g * cs) * (cn + tb * np.sin(a_n)))
-    return np.asarray(omega_s, dtype=float) / (1.0 + ratio)
+    return np.asarray(omega_s, dtype=np.float64) / (1.0 + ratio)
 
 
-def spin_speed(geo: ScrewGeometry, omega_m: ArrayLike, a_n: ArrayLike,
-               beta: float = GYROSCOPIC_ANGLE) -> NDArray:
+def spin_speed(geo: ScrewGeometry, omega_m: Floats, a_n: Floats,
+               beta: float = GYROSCOPIC_ANGLE) -> FloatArray:
     """000 eq. 9: ball spin w_R [rad/s] (cos(beta) cos(a_n) + sin(beta) sin(a_n) = cos(beta - a_n))."""
     g = geo.gamma_prime
     return -(1.0 + g * np.cos(a_n)) * math.cos(geo.phi) / (g * np.cos(beta - np.asarray(a_n))) * omega_m
 
 
-def ball_motion(geo: ScrewGeometry, omega_s: ArrayLike, a_s: ArrayLike, a_n: ArrayLike, *,
+def ball_motion(geo: ScrewGeometry, omega_s: Floats, a_s: Floats, a_n: Floats, *,
                 reading: str = "literal", beta: float = GYROSCOPIC_ANGLE) -> BallMotion:
     """000 eq. 8-12 and 19 for screw speed magnitude |w_s| [rad/s] at contact angles a_s, a_n [rad]."""
-    w_s = np.abs(np.asarray(omega_s, dtype=float))
+    w_s = np.abs(np.asarray(omega_s, dtype=np.float64))
     w_m = orbit_speed(geo, w_s, a_s, a_n, beta)
     w_r = spin_speed(geo, w_m, a_n, beta)
     f_c = 0.5 * geo.ball_mass * geo.d_m * w_m**2

@@ -22,8 +22,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ebm_wear_monitor.arrays import FloatArray, Floats
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params.unit import UnitParams
 from ebm_wear_monitor.physics.archard import ball_rate
@@ -37,9 +37,9 @@ METHODS = ("surrogate", "direct")
 class WearRates(NamedTuple):
     """Wear-depth rates dh/dt [m/s]: screw raceway, nut raceway, ball radius (one side)."""
 
-    screw: NDArray
-    nut: NDArray
-    ball: NDArray
+    screw: FloatArray
+    nut: FloatArray
+    ball: FloatArray
 
 
 class WearModel:
@@ -61,18 +61,19 @@ class WearModel:
             return self.table.operating
         return operating_envelope(self.unit, self.options)
 
-    def _direct(self, force: NDArray, speed: NDArray) -> tuple[NDArray, NDArray]:
+    def _direct(self, force: FloatArray, speed: FloatArray) -> tuple[FloatArray, FloatArray]:
         if force.size == 0:
             return np.zeros(0), np.zeros(0)
         _, screw, nut = solve(self.unit, force, speed, self.options)
         return screw.wear_rate, nut.wear_rate
 
-    def rates(self, axial_force: ArrayLike, screw_speed: ArrayLike) -> WearRates:
+    def rates(self, axial_force: Floats, screw_speed: Floats) -> WearRates:
         """Wear-depth rates [m/s] for axial force [N] (compressive > 0) and screw speed [rad/s] arrays.
 
         Inputs broadcast against each other; the result has their broadcast shape.
         """
-        f, w = np.broadcast_arrays(np.asarray(axial_force, dtype=float), np.asarray(screw_speed, dtype=float))
+        f, w = np.broadcast_arrays(np.asarray(axial_force, dtype=np.float64),
+                                   np.asarray(screw_speed, dtype=np.float64))
         shape = f.shape
         f = f.ravel()
         w = np.abs(w.ravel())
@@ -92,7 +93,7 @@ class WearModel:
         return WearRates(screw.reshape(shape), nut.reshape(shape), ball.reshape(shape))
 
 
-_CACHE: dict[tuple, WearModel] = {}
+_CACHE: dict[tuple[object, ...], WearModel] = {}
 
 
 def wear_model(unit: UnitParams, method: str = "surrogate", **reading_options: object) -> WearModel:

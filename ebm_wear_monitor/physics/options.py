@@ -39,7 +39,7 @@ class ModelOptions:
     def beta(self) -> float:
         return math.radians(self.gyroscopic_angle_deg)
 
-    def key(self) -> tuple:
+    def key(self) -> tuple[tuple[str, object], ...]:
         return tuple(sorted(asdict(self).items()))
 
 

@@ -33,8 +33,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
+from ebm_wear_monitor.arrays import BoolArray, FloatArray, Floats
 from ebm_wear_monitor.physics.hertz import ellipe_fit, ellipk_fit, ellipticity_fit
 
 KAPPA_READINGS = ("b/a", "a/b")
@@ -46,12 +46,13 @@ def tabor_k(poisson_ratio: float) -> float:
     return 0.454 + 0.41 * poisson_ratio
 
 
-def critical_interference(hardness: float, poisson_ratio: float, e_red: float, radius: ArrayLike) -> NDArray:
+def critical_interference(hardness: float, poisson_ratio: float, e_red: float, radius: Floats) -> FloatArray:
     """000 eq. 6: delta_c = (pi K H / (2 E*))^2 R [m]."""
-    return (np.pi * tabor_k(poisson_ratio) * hardness / (2.0 * e_red)) ** 2 * np.asarray(radius, dtype=float)
+    factor = (np.pi * tabor_k(poisson_ratio) * hardness / (2.0 * e_red)) ** 2
+    return factor * np.asarray(radius, dtype=np.float64)
 
 
-def horng_functions(gamma: ArrayLike, kappa_reading: str = "b/a") -> tuple[NDArray, NDArray, NDArray]:
+def horng_functions(gamma: Floats, kappa_reading: str = "b/a") -> tuple[FloatArray, FloatArray, FloatArray]:
     """Horng's f1, f2, f3 of 000 eq. 7 at curvature ratio gamma, kappa = b/a (Horng) or a/b (000 eq. 4)."""
     f, e = ellipk_fit(gamma), ellipe_fit(gamma)
     kap = ellipticity_fit(gamma)
@@ -67,15 +68,15 @@ def horng_functions(gamma: ArrayLike, kappa_reading: str = "b/a") -> tuple[NDArr
 
 
 class ContactArea(NamedTuple):
-    area: NDArray  # A_c [m^2]
-    plastic: NDArray  # True where delta >= delta_c (elastic-plastic)
-    delta_c: NDArray  # critical interference [m]
+    area: FloatArray  # A_c [m^2]
+    plastic: BoolArray  # True where delta >= delta_c (elastic-plastic)
+    delta_c: FloatArray  # critical interference [m]
 
 
-def contact_area(delta: ArrayLike, gamma: ArrayLike, radius: ArrayLike, *, hardness: float,
+def contact_area(delta: Floats, gamma: Floats, radius: Floats, *, hardness: float,
                  poisson_ratio: float, e_red: float, kappa_reading: str = "b/a") -> ContactArea:
     """000 eq. 6-7: contact type and area for approach ``delta`` [m] with radius R [m]."""
-    delta = np.asarray(delta, dtype=float)
+    delta = np.asarray(delta, dtype=np.float64)
     f1, f2, f3 = horng_functions(gamma, kappa_reading)
     d_c = critical_interference(hardness, poisson_ratio, e_red, radius)
     plastic = delta >= d_c

@@ -17,8 +17,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
 
+from ebm_wear_monitor.arrays import BoolArray, FloatArray
 from ebm_wear_monitor.params.unit import UnitParams
 from ebm_wear_monitor.physics.contact import solve
 from ebm_wear_monitor.physics.options import ModelOptions
@@ -37,7 +37,7 @@ OPERATING_FORCE_MIN = 10.0  # [N]; below ~2 N the centrifugal force of a fast ba
 SPEED_FLOOR = 1e-6  # speed at which the w = 0 column of g is evaluated [rad/s]
 
 
-def _below_switch(envelope: Envelope, force: NDArray, plastic: NDArray) -> Envelope:
+def _below_switch(envelope: Envelope, force: FloatArray, plastic: BoolArray) -> Envelope:
     """Part of ``envelope`` below the first force where a contact is elastic-plastic at any speed."""
     first = plastic.any(axis=1)
     onset = float(force[np.argmax(first)]) if first.any() else envelope.force_max
@@ -83,12 +83,12 @@ class WearTable:
         self._coef = np.concatenate([_bilinear_coefficients(g) for g in grids], axis=-1).reshape(-1, 8)
         self.operating = _below_switch(envelope, ff[:, 0], (screw.plastic | nut.plastic).reshape(ff.shape))
 
-    def inside(self, force: NDArray, speed: NDArray) -> NDArray:
+    def inside(self, force: FloatArray, speed: FloatArray) -> BoolArray:
         """Mask of samples inside the envelope (|F| in [F_min, F_max], |w| <= w_max)."""
         e = self.envelope
         return (force >= e.force_min) & (force <= e.force_max) & (speed <= e.speed_max)
 
-    def rates(self, force: NDArray, speed: NDArray) -> tuple[NDArray, NDArray]:
+    def rates(self, force: FloatArray, speed: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Bilinear table look-up for samples inside the envelope: (screw, nut) dh/dt [m/s]."""
         u = np.log(force)
         u -= self._l0
@@ -108,7 +108,7 @@ class WearTable:
         return screw, nut
 
 
-def _bilinear_coefficients(g: NDArray) -> NDArray:
+def _bilinear_coefficients(g: FloatArray) -> FloatArray:
     """Coefficients (c0, c1, c2, c3) of g = c0 + c1 fu + fv (c2 + c3 fu) on every grid cell."""
     g00, g10, g01, g11 = g[:-1, :-1], g[1:, :-1], g[:-1, 1:], g[1:, 1:]
     return np.stack([g00, g10 - g00, g01 - g00, g11 - g10 - g01 + g00], axis=-1)
