@@ -103,7 +103,8 @@ def _module_level_imports(path: Path) -> set[str]:
 def _third_party(names: set[str]) -> set[str]:
     """Top-level names outside the standard library and this package (ROS 2 packages included)."""
     tops = {n.split(".")[0] for n in names}
-    return tops - set(sys.stdlib_module_names) - {"ebm_wear_monitor", "__future__"}
+    # _typeshed: the standard library's type-checking-only stubs (imported under TYPE_CHECKING)
+    return tops - set(sys.stdlib_module_names) - {"ebm_wear_monitor", "__future__", "_typeshed"}
 
 
 def _ros_packages() -> set[str]:

@@ -37,6 +37,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
@@ -303,11 +304,10 @@ class BagReader:
                     take = log <= horizon
                     parts.setdefault(key, []).append((stamps[take], values[take], log[take]))
                     pending[i][key] = (stamps[~take], values[~take], log[~take])
-            for (unit, signal), arrays in parts.items():
-                log = np.concatenate([a[2] for a in arrays])
-                order = np.argsort(log, kind="stable")
-                out.setdefault(unit, Batch()).add(signal, np.concatenate([a[0] for a in arrays])[order],
-                                                  np.concatenate([a[1] for a in arrays])[order])
+            for (unit, signal), pieces in parts.items():
+                order = np.argsort(np.concatenate([a[2] for a in pieces]), kind="stable")
+                out.setdefault(unit, Batch()).add(signal, np.concatenate([a[0] for a in pieces])[order],
+                                                  np.concatenate([a[1] for a in pieces])[order])
             yield out, progress
         for src in group:
             self.problems += src.store.problems
@@ -317,7 +317,7 @@ class BagReader:
                       ) -> tuple[dict[str, Batch], dict[tuple[str, str], tuple[np.ndarray, ...]]]:
         """Decode a chunk: per unit a Batch, and per (unit, signal) (stamps, values, log times)."""
         batches: dict[str, Batch] = {}
-        arrays = {}
+        arrays: dict[tuple[str, str], tuple[np.ndarray, ...]] = {}
         for cid, records in chunk.records.items():
             unit, signal = src.chosen[cid]
             decoded = self._decode(records)
@@ -326,11 +326,11 @@ class BagReader:
             self._read[key] = self._read.get(key, 0) + records.count
             good = decoded.ok
             self._decoded[src.bag.path] = self._decoded.get(src.bag.path, 0) + int(good.sum())
-            stamps = records.log_ns if self.log_stamps else decoded.stamps_ns
+            log = records.log_ns if records.log_ns is not None else np.zeros(good.size, np.int64)
+            stamps = log if self.log_stamps else decoded.stamps_ns  # (log times are read when asked for)
             batch = batches.setdefault(unit, Batch())
             batch.add(signal, stamps[good], decoded.values[good])
             batch.count(signal, "undecodable", int(good.size - good.sum()))
-            log = records.log_ns if records.log_ns is not None else np.zeros(good.size, np.int64)
             arrays[(unit, signal)] = (stamps[good], decoded.values[good], log[good])
         return batches, arrays
 
@@ -383,7 +383,7 @@ def _fallback(decoded: Decoded, rows: np.ndarray) -> None:
     store = typestore()
     for i in np.flatnonzero(~decoded.ok).tolist():
         try:
-            msg = store.deserialize_cdr(rows[i].tobytes(), FLOAT64_STAMPED)
+            msg: Any = store.deserialize_cdr(rows[i].tobytes(), FLOAT64_STAMPED)  # a class made at run time
         except Exception:  # any deserializer failure means an undecodable record
             continue
         decoded.stamps_ns[i] = int(stamp_ns(msg.header.stamp.sec, msg.header.stamp.nanosec))

@@ -230,7 +230,7 @@ def _decompress(data: bytes, compression: str, size: int) -> bytes:
         try:
             from compression import zstd  # type: ignore[import-not-found]  # Python >= 3.14
         except ImportError:
-            from backports import zstd  # type: ignore[import-not-found,no-redef]
+            from backports import zstd
         return zstd.decompress(data)
     if compression == "lz4":
         from lz4.frame import decompress
@@ -392,7 +392,7 @@ class McapStorage(Storage):
             yield op, at + 9, length
             at += 9 + length
 
-    def _indexed_offsets(self, chunk: _ChunkIndex, cid: int) -> np.ndarray | None:
+    def _indexed_offsets(self, chunk: _ChunkIndex, cid: int) -> np.ndarray:
         """(log time, offset) pairs of channel ``cid`` in ``chunk`` from its MessageIndex record."""
         op, content = self._record_at(chunk.message_indexes[cid])
         if op != _OP_MESSAGE_INDEX or struct.unpack_from("<H", content, 0)[0] != cid:
@@ -457,14 +457,14 @@ class McapStorage(Storage):
             offsets, index_log = offsets[order], pairs[order, 0].astype(np.int64)
             ok = (offsets >= 0) & (offsets + 9 + _MSG_HEAD <= limit)
             safe = np.where(ok, offsets, 0)
-            length = _gather(buf, safe + 1, "<u8").astype(np.int64)
-            ok &= (buf[safe] == _OP_MESSAGE) & (length >= _MSG_HEAD) & (safe + 9 + length <= limit)
+            lengths = _gather(buf, safe + 1, "<u8").astype(np.int64)
+            ok &= (buf[safe] == _OP_MESSAGE) & (lengths >= _MSG_HEAD) & (safe + 9 + lengths <= limit)
             ok &= _gather(buf, safe + 9, "<u2") == cid
             ok &= _gather(buf, safe + 15, "<u8").astype(np.int64) == index_log
             if not ok.all():
                 self.problems.append(f"{self.path}: chunk at offset {chunk.offset}: {np.count_nonzero(~ok)} "
                                      f"indexed records of channel {cid} damaged, skipped")
-            out[cid] = (offsets[ok], length[ok], index_log[ok])
+            out[cid] = (offsets[ok], lengths[ok], index_log[ok])
         return out
 
     def close(self) -> None:

@@ -83,6 +83,7 @@ BLOCKS = {"contact": CONTACT_BLOCKS, "wear": WEAR_BLOCKS, "actuator": ACTUATOR_B
 def run(args: argparse.Namespace) -> int:
     check_destination(args.json, "--json")
     unit = load_unit(args.params, BLOCKS[args.calculator])
+    result: dict[str, Any]
     if args.calculator == "contact":
         from ebm_wear_monitor.physics import contact_report
         result = contact_report(unit, axial_force=args.axial_force, normal_load_n=args.normal_load,

@@ -243,12 +243,13 @@ def run_fleet(client, root: str | os.PathLike, out: str | os.PathLike, params: U
     try:
         for future in as_completed(list(pending)):
             folder, unit_hashes = pending.pop(future)
+            recorded: list[str] | None = unit_hashes
             try:
                 outcome = future.result()
             except Exception as exc:  # the worker died or the task could not run: report, retry next run
                 outcome = UnitOutcome(folder, error=f"task failed: {type(exc).__name__}: {exc}")
-                unit_hashes = None
-            manifest.units[folder] = {"hashes": unit_hashes, "params_digest": digest,
+                recorded = None
+            manifest.units[folder] = {"hashes": recorded, "params_digest": digest,
                                       "status": "failed" if outcome.error else "ok",
                                       "file": save_outcome(out, outcome)}
             # a merged (resumed) result must never be merged twice: record it at once

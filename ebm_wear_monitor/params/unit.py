@@ -208,6 +208,12 @@ class UnitParams:
     name: str = "unit"
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
+    def require_actuator(self) -> Actuator:
+        """The ``actuator`` block, which the twin needs (:class:`ParamError`, one line, when not read)."""
+        if self.actuator is None:
+            raise ParamError(f"{self.name}: the unit file has no 'actuator' block; the twin needs one")
+        return self.actuator
+
     def digest(self) -> str:
         """Stable hash of every physical value (for caches keyed by the parameter set)."""
         payload = {k: v for k, v in asdict(self).items() if k not in ("raw", "name")}

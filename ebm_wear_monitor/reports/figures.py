@@ -64,19 +64,19 @@ def clearance_figure(app: pd.DataFrame, remaining_life: dict) -> dict | None:
          "type": "scatter"},
     ]
     limit = remaining_life.get("limit_m")
-    p = [remaining_life.get(f"cycles_{q}") for q in ("p05", "p50", "p95")]
+    p05, p50, p95 = (remaining_life.get(f"cycles_{q}") for q in ("p05", "p50", "p95"))
     x_max = None
-    if known(limit) and all(known(v) for v in p) and np.isfinite(est[-1]):
+    if known(limit) and known(p05) and known(p50) and known(p95) and np.isfinite(est[-1]):
         k0, x0, lim = k[-1], est[-1], limit * 1e3
         data += [
-            {"x": [k0, k0 + p[0], k0 + p[2], k0], "y": [x0, lim, lim, x0], "fill": "toself", "mode": "lines",
+            {"x": [k0, k0 + p05, k0 + p95, k0], "y": [x0, lim, lim, x0], "fill": "toself", "mode": "lines",
              "fillcolor": "rgba(198,40,40,0.12)", "line": {"width": 0}, "hoverinfo": "skip",
              "name": "projection p05–p95", "type": "scatter"},
-            {"x": [k0, k0 + p[1]], "y": [x0, lim], "mode": "lines", "line": {"color": RED, "dash": "dot"},
-             "name": f"projection p50: limit after {count(p[1])} more", "type": "scatter"},
+            {"x": [k0, k0 + p50], "y": [x0, lim], "mode": "lines", "line": {"color": RED, "dash": "dot"},
+             "name": f"projection p50: limit after {count(p50)} more", "type": "scatter"},
         ]
         span = max(k[-1] - k[0], 1.0)
-        x_max = k0 + min(1.05 * p[2], PROJECTION_SPAN * span)
+        x_max = k0 + min(1.05 * p95, PROJECTION_SPAN * span)
     data.append({"x": k, "y": observed, "mode": "markers", "name": "observed in the application",
                  "marker": {"color": ORANGE, "size": 7, "line": {"color": "white", "width": 1}},
                  "type": "scatter"})

@@ -7,6 +7,7 @@ The data and JSON stay SI (m, N, s); every function here takes SI and returns te
 from __future__ import annotations
 
 import math
+from typing import TypeGuard
 
 NA = "not available"
 DAY_S = 86400.0  # [s]
@@ -22,8 +23,8 @@ STATUS: dict[str, tuple[str, str]] = {
 }
 
 
-def known(value: object) -> bool:
-    """True for a finite number."""
+def known(value: object) -> TypeGuard[float]:
+    """True for a finite number (an int or a float, not a bool)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 

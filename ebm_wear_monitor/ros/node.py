@@ -152,8 +152,10 @@ class WearMonitorNode:
         qos = input_qos(params.qos_reliability == "reliable", params.qos_depth)
         msg_type = messages.Float64Stamped
         self.inputs = {s: InputBuffer(s) for s in SIGNALS}
-        self._subs = [node.create_subscription(msg_type, INPUT_TOPICS[s], self.inputs[s].pending.append, qos,
-                                               raw=True) for s in SIGNALS]
+        # raw=True hands the callback the serialised bytes, which rclpy's annotation does not cover
+        self._subs = [node.create_subscription(msg_type, INPUT_TOPICS[s],
+                                               self.inputs[s].pending.append,  # type: ignore[arg-type]
+                                               qos, raw=True) for s in SIGNALS]
         self.pub_wear = node.create_publisher(messages.WearState, "wear", event_qos())
         self.pub_cycle = node.create_publisher(messages.DutyCycle, "duty_cycle", event_qos())
         self.pub_life = node.create_publisher(messages.RemainingLife, "remaining_life", latched_qos())

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import Floats
+
 #: reference clamp force at which the stiffening coefficient s is stated [N]
 STIFFENING_REFERENCE_FORCE = 20.0e3
 
@@ -43,7 +45,7 @@ class ClampLaw:
     """Brake clearance and clamp spring of eq. 5 (plus the stiffening coefficient s)."""
 
     stiffness: float  # K_b [N/m]
-    clearance: float  # x_ag, nut travel from the rest position to pad contact [m]
+    clearance: Floats  # x_ag, nut travel from the rest position to pad contact [m] (one per batch column)
     stiffening: float = 0.0  # s, fractional tangent-stiffness increase at F_ref [-]
 
     @property

@@ -36,7 +36,7 @@ from ebm_wear_monitor.twin.friction import FrictionLaw, friction_law
 
 
 def _transmission(unit: UnitParams) -> float:
-    return unit.ball_screw.lead / (2.0 * math.pi * unit.actuator.gear_ratio)
+    return unit.ball_screw.lead / (2.0 * math.pi * unit.require_actuator().gear_ratio)
 
 
 def actuator_torques(unit: UnitParams, clamp_force: float) -> ActuatorResult:
@@ -57,7 +57,7 @@ def actuator_torques(unit: UnitParams, clamp_force: float) -> ActuatorResult:
     return ActuatorResult(
         load_torque_Nm=load, friction_torque_Nm=friction, motor_torque_Nm=motor,
         torque_transfer_ratio=load / motor if motor > 0.0 else 0.0, static_friction_torque_Nm=static,
-        release_torque_Nm=load - static, motor_current_A=motor / unit.actuator.motor.torque_constant)
+        release_torque_Nm=load - static, motor_current_A=motor / unit.require_actuator().motor.torque_constant)
 
 
 def gap_closing(unit: UnitParams, law: FrictionLaw | None = None,
@@ -68,7 +68,7 @@ def gap_closing(unit: UnitParams, law: FrictionLaw | None = None,
     ``T_ag = 2 π i_g x_ag / (l K) + (1 - e^{-4}) T`` (eq. 16 with the lead restored; the
     printed 0.9817 is 1 - e^{-4}). Speeds at the motor shaft [rad/s], times [s].
     """
-    a, law = unit.actuator, law or friction_law(unit)
+    a, law = unit.require_actuator(), law or friction_law(unit)
     m = a.motor
     e = a.supply_voltage if voltage is None else voltage
     denominator = law.viscous * m.resistance + m.back_emf_constant * m.torque_constant
@@ -82,7 +82,7 @@ def max_clamp_force(unit: UnitParams, law: FrictionLaw | None = None,
                     stall_torque: float | None = None) -> float:
     """004 eq. 17 corrected: ``F_clmax = (T_c - T_fs) / (l/(2 π i_g) + G)`` [N] (0 if T_c <= T_fs)."""
     law = law or friction_law(unit)
-    tc = unit.actuator.motor.continuous_stall_torque if stall_torque is None else stall_torque
+    tc = unit.require_actuator().motor.continuous_stall_torque if stall_torque is None else stall_torque
     return max(tc - law.static, 0.0) / (_transmission(unit) + law.load_coefficient)
 
 
@@ -90,8 +90,8 @@ def max_clamp_force_printed(unit: UnitParams, static: float, load_coefficient: f
                             stall_torque: float | None = None) -> float:
     """004 eq. 17 exactly as printed, ``(T_c - T_fs) / (1/(2 π i_g) - G)`` (no lead, minus G):
     kept to show what it gives (build/notes/twin.md); not used by the twin."""
-    tc = unit.actuator.motor.continuous_stall_torque if stall_torque is None else stall_torque
-    return (tc - static) / (1.0 / (2.0 * math.pi * unit.actuator.gear_ratio) - load_coefficient)
+    tc = unit.require_actuator().motor.continuous_stall_torque if stall_torque is None else stall_torque
+    return (tc - static) / (1.0 / (2.0 * math.pi * unit.require_actuator().gear_ratio) - load_coefficient)
 
 
 def stall_torque_from_force(unit: UnitParams, force: float) -> float:

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import Floats
 from ebm_wear_monitor.twin.friction import SCREW_EFFICIENCY
 
 
@@ -107,7 +108,7 @@ def screw_torque(c: ComponentInputs, output_force: np.ndarray, forward: bool) ->
     return k * ((1.0 - eta_r) * fn + c.preload * eta_r * (1.0 - eta_r**2))
 
 
-def component_torques(c: ComponentInputs, motor_speed: np.ndarray, clamp_force: np.ndarray,
+def component_torques(c: ComponentInputs, motor_speed: Floats, clamp_force: Floats,
                       forward: bool = True) -> dict[str, np.ndarray]:
     """Every component's friction and their eq. 40 sum, at the motor shaft [N m].
 

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import Floats
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, limit_voltage, voltage_interval
 
 #: phase names; codes are the indices (interface.md section 4 names the first four)
@@ -114,7 +115,7 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
     phase = np.zeros(batch, np.int8)
     since = np.zeros(batch)  # time in the current phase [s]
     length = np.zeros(batch, int)
-    rows: list[tuple[np.ndarray, ...]] = []
+    rows: list[tuple[Floats, ...]] = []
     k = 0
     while True:
         force = model.clamp_force(angle)
@@ -148,5 +149,7 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
         rows.append((*sample, torque, friction, phase))
         since = since + dt
         k += 1
-    cols = [np.array(col) for col in zip(*rows, strict=True)]
-    return ClosedLoopRecord(*cols, length=length)
+    angle_, speed_, force_, current_, volts_, torque_, friction_, phase_ = (
+        np.array(col) for col in zip(*rows, strict=True))
+    return ClosedLoopRecord(angle_, speed_, force_, current_, volts_, torque_, friction_, phase_,
+                            length=length)

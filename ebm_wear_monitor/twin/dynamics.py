@@ -44,6 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import Floats
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.clamp import ClampLaw
@@ -86,7 +87,7 @@ class ActuatorModel:
 
 def equivalent_inertia(unit: UnitParams) -> float:
     """004 eq. 2: ``J_me = J_m + J_g + J_s / i_g^2 + (l / (2 π i_g))^2 m_n`` [kg m^2]."""
-    a = unit.actuator
+    a = unit.require_actuator()
     r = unit.ball_screw.lead / (2.0 * math.pi * a.gear_ratio)
     return a.motor.inertia + a.gear_inertia + a.screw_inertia / a.gear_ratio**2 + r * r * a.nut_mass
 
@@ -96,9 +97,7 @@ def actuator_model(unit: UnitParams, clearance: float | None = None) -> Actuator
 
     ``clearance`` overrides the nominal x_ag [m] (a worn unit's grown clearance).
     """
-    a = unit.actuator
-    if a is None:
-        raise InputError(f"{unit.name}: the unit file has no 'actuator' block; the twin needs one")
+    a = unit.require_actuator()
     m = a.motor
     return ActuatorModel(
         inertia=equivalent_inertia(unit), lead=unit.ball_screw.lead, gear_ratio=a.gear_ratio,
@@ -157,13 +156,14 @@ def mechanical_step(model: ActuatorModel, angle: np.ndarray, speed: np.ndarray, 
 
 def voltage_interval(model: ActuatorModel, angle: np.ndarray, speed: np.ndarray, current: np.ndarray,
                      voltage: np.ndarray, *, dt: float, substeps: int = 1, force: np.ndarray | None = None
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, Floats, Floats]:
     """Advance eq. 1 and 8 over one sample interval ``dt`` at a held armature ``voltage`` in
     ``substeps`` steps. Returns (motor angle [rad], motor speed [rad/s], current [A], mean motor
     torque [N m], mean friction torque [N m]) of the interval; ``force`` as in :func:`mechanical_step`.
     """
     h = dt / substeps
-    torque_sum, friction_sum = 0.0, 0.0
+    torque_sum: Floats = 0.0
+    friction_sum: Floats = 0.0
     for _ in range(substeps):
         current, mean_current = electrical_step(model, current, voltage, speed, h)
         torque = model.torque_constant * mean_current
@@ -239,7 +239,7 @@ def simulate_current_driven(model: UnitParams | ActuatorModel, t: np.ndarray, cu
         out["angle"][k], out["speed"][k] = angle, speed
         torque_a = model.torque_constant * current[k]
         torque_b = model.torque_constant * current[min(k + 1, n - 1)]
-        friction_sum = 0.0
+        friction_sum: Floats = 0.0
         for j in range(substeps):
             torque = torque_a + (torque_b - torque_a) * (j + 0.5) / substeps
             angle, speed, force, friction = mechanical_step(model, angle, speed, torque, h)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import Floats
 from ebm_wear_monitor.params import UnitParams
 
 #: mean forward efficiency of the ball screw without preload, η_0 (a catalogue value; 004 prints none)
@@ -54,12 +55,12 @@ class FrictionLaw:
 
 def friction_law(unit: UnitParams) -> FrictionLaw:
     """The nominal eq. 9 law of a unit's ``actuator.friction`` block."""
-    f = unit.actuator.friction
+    f = unit.require_actuator().friction
     return FrictionLaw(static=f.static, coulomb=f.coulomb, viscous=f.viscous,
                        load_coefficient=f.load_coefficient)
 
 
-def _efficiency_term(law: FrictionLaw, speed: np.ndarray, load_torque: np.ndarray) -> np.ndarray | float:
+def _efficiency_term(law: FrictionLaw, speed: Floats, load_torque: np.ndarray) -> Floats:
     """Extra friction ``T_L (1/η(ω) - 1/η_0)`` of a speed-dependent screw efficiency [N m]."""
     if law.efficiency_drop == 0.0:
         return 0.0
@@ -73,7 +74,7 @@ def sliding_friction(law: FrictionLaw, speed: np.ndarray, force: np.ndarray,
 
     ``(T_c(ω) + G F_cl) + B |ω|`` plus the efficiency term; it acts against the motion.
     """
-    level = law.coulomb
+    level: Floats = law.coulomb
     if law.stribeck_speed > 0.0:
         level = law.coulomb + (law.static - law.coulomb) * np.exp(-(speed / law.stribeck_speed) ** 2)
     return (level + law.load_coefficient * force + law.viscous * np.abs(speed)

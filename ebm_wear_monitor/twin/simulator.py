@@ -251,7 +251,7 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
         noise_std=noise.as_dict(), rate_hz=float(rate_hz), seed=int(seed), cycles_at_start=int(prior_cycles),
         wear_m={s: wear_after[i] for i, s in enumerate(SURFACES)} if core is not None else None,
         clearance_m=clearance_during, clearance_after_m=clearance_after,
-        nominal_clearance_m=float(unit.actuator.clearance),
+        nominal_clearance_m=float(unit.require_actuator().clearance),
         clearance_limit_m=float(unit.monitor.clearance_limit)), noise=noise, sensor=sensor, dt=dt, keep=keep)
 
 

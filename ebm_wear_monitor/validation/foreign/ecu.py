@@ -109,7 +109,8 @@ class Ecu:
         """Clear every controller state (start of a segment)."""
         z = np.zeros(self.n)
         self.int_i, self.int_w, self.int_f, self.int_p = z.copy(), z.copy(), z.copy(), z.copy()
-        self.w_est, self.th_prev = z.copy(), None
+        self.w_est = z.copy()
+        self.th_prev: np.ndarray | None = None
         self.trim = z.copy()
         self.contact = np.zeros(self.n, dtype=bool)
         self.released = np.zeros(self.n, dtype=bool)

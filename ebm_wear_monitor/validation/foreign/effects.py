@@ -66,7 +66,8 @@ class Context:
     rng: np.random.Generator
 
 
-def _record(name: str, form: str, equation: str, quantity: str, s: float, **params: float) -> dict:
+def _record(name: str, form: str, equation: str, quantity: str, s: float,
+            **params: float | np.ndarray) -> dict:
     return {"name": name, "catalog": name in CATALOG, "form": form, "equation": equation,
             "params": {k: (v.tolist() if isinstance(v, np.ndarray) else float(v))
                        for k, v in params.items()},

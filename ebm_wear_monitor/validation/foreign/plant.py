@@ -30,6 +30,7 @@ levels, the drive torque, the clamp law and the load cell through the hooks of :
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -50,8 +51,9 @@ class Physics:
     kinetic_extra: list = field(default_factory=list)  # f(F, w, th) -> added to C_k
     static_extra: list = field(default_factory=list)  # f(F, th) -> added to C_s
     drive_extra: list = field(default_factory=list)  # f(th) -> signed torque added to T_d
-    clamp: object = None  # f(penetration [m], K_b) -> F; None: K_b * penetration
-    cell: object = None  # f(F) -> load-cell output before lag; None: identity
+    # f(penetration [m], K_b) -> F; None: K_b * penetration
+    clamp: Callable[[np.ndarray, float], np.ndarray] | None = None
+    cell: Callable[[np.ndarray], np.ndarray] | None = None  # f(F) -> cell output before lag; None: identity
     kt_factor: float = 1.0  # motor torque (and back-EMF) constant factor
     backlash: float = 0.0  # play between motor and screw, motor-side [rad]
     clearance_extra: object = None  # per-application extra clearance [m] or None

@@ -92,7 +92,7 @@ def _run(plant: Plant, ecu: Ecu, n_steps: int, *, every: int, control,
     out = {k: np.empty((n_steps, n)) for k in ("theta", "q", "w", "i", "E", "F", "f_cell")}
     tare = plant.f_cell.copy()
     E = np.zeros(n)
-    saved = [None] * n
+    saved: list[tuple[np.ndarray, ...] | None] = [None] * n
     due: dict[int, list[int]] = {}
     if save_at is not None:
         for k, s in enumerate(save_at):
@@ -228,5 +228,6 @@ def _stitch(sched: Schedule, apply_rows: dict, n_hold: np.ndarray, *, rel: dict,
         unload[k] = t[lo + loaded[-1]] if loaded.size else np.nan
         peak[k] = sig["F"][lo:hi].max()
         held[k] = sig["F"][round(release[k] / dt) - 1]
-    return Trajectory(t=t, rest=rest, gap_end=gap_end, onset=onset, release=release, off=off,
-                      contact=contact, unload=unload, peak_force=peak, held_force=held, **sig)
+    return Trajectory(t=t, theta=sig["theta"], q=sig["q"], w=sig["w"], i=sig["i"], E=sig["E"], F=sig["F"],
+                      f_cell=sig["f_cell"], rest=rest, gap_end=gap_end, onset=onset, release=release, off=off,
+                      contact=contact, unload=unload, peak_force=peak, held_force=held)
