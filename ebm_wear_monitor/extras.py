@@ -74,6 +74,11 @@ TEST: tuple[Requirement, ...] = (
     Requirement("filterpy", ">=2.0.0", ("filterpy",)),  # reference Kalman filter of the monitor tests
     Requirement("playwright", ">=1.40", ("playwright",)),  # the reports' browser test
     Requirement("ruff", ">=0.6", ("ruff",)),  # test_package_layout runs it
+    Requirement("mypy", ">=1.18", ("mypy",)),  # test_types runs it, with these stubs (no import names)
+    Requirement("types-PyYAML", ">=6.0", ()),
+    Requirement("types-tqdm", ">=4.66", ()),
+    Requirement("scipy-stubs", ">=1.15", ()),
+    Requirement("pandas-stubs", ">=2.2", ()),
 )
 
 EXTRAS: dict[str, tuple[Requirement, ...]] = {"tools": TOOLS, "test": TOOLS + TEST}

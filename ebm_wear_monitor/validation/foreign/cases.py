@@ -9,6 +9,7 @@ bit for bit.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -55,8 +56,8 @@ class Case:
         if self.kind not in KINDS:
             raise ValueError(f"unknown case kind {self.kind!r}; known: {KINDS}")
 
-    def option(self, key: str, default: object = None) -> object:
-        """A fixed choice of this case, or ``default``."""
+    def option(self, key: str, default: Any = None) -> Any:
+        """A fixed choice of this case, or ``default`` (its type depends on the key: :func:`realize`)."""
         return dict(self.fixed).get(key, default)
 
     def to_json(self) -> dict:
@@ -260,8 +261,8 @@ def _effect_cases(seed0: int, *, forms_per_effect: int, variants: int, small: bo
                                       VARIANTS[k % len(VARIANTS)]))
             k += 1
     for j, pair in enumerate(PAIRS[:pairs]):
-        forms = tuple((name, form, _magnitude(rng, name)) for name, form in pair)
-        cases.append(_effect_case(f"pair.{pair[0][0]}+{pair[1][0]}.{j}", seed0 + k, forms,
+        pair_forms = tuple((name, form, _magnitude(rng, name)) for name, form in pair)
+        cases.append(_effect_case(f"pair.{pair[0][0]}+{pair[1][0]}.{j}", seed0 + k, pair_forms,
                                   VARIANTS[k % len(VARIANTS)]))
         k += 1
     return cases
