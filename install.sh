@@ -83,8 +83,11 @@ else  # a real (not editable) install that brings its own run dependencies: what
       ! -name '*.pyc' -print0 | sort -z | xargs -0 cat | sha256sum | cut -c1-16)
   if [ "$(cat "$STAMPS/pkg" 2>/dev/null)" != "$h" ] || [ ! -x "$VENV/bin/ebm-wear-monitor" ]; then
     say "installing ebm_wear_monitor with its onboard dependencies only"
-    rm -rf build/lib build/bdist.*  # setuptools' staging area: no module deleted since may ride along
-    "${PIP[@]}" install -c requirements/lock.txt --no-build-isolation . > build/pip-onboard.log 2>&1 \
+    # built from a clean copy: no setuptools staging (build/lib) or egg-info left in this tree
+    src=$(mktemp -d); trap 'rm -rf "$src"' EXIT
+    cp -r setup.py setup.cfg package.xml config resource ebm_wear_monitor "$src"/
+    find "$src" -name __pycache__ -prune -exec rm -rf {} +
+    "${PIP[@]}" install -c requirements/lock.txt --no-build-isolation "$src" > build/pip-onboard.log 2>&1 \
       || { tail -20 build/pip-onboard.log >&2; exit 1; }
     echo "$h" > "$STAMPS/pkg"
   fi

@@ -71,6 +71,7 @@ TEST: tuple[Requirement, ...] = (
     Requirement("pytest-timeout", ">=2.3", ("pytest_timeout",)),  # pytest.ini: timeout
     Requirement("hypothesis", ">=6.100", ("hypothesis",)),
     Requirement("mcap", ">=1.2", ("mcap",)),  # an independent MCAP writer for the reader tests
+    Requirement("jsonschema", ">=4.20", ("jsonschema",)),  # the JSON Schema files against real outputs
     Requirement("filterpy", ">=2.0.0", ("filterpy",)),  # reference Kalman filter of the monitor tests
     Requirement("playwright", ">=1.40", ("playwright",)),  # the reports' browser test
     Requirement("ruff", ">=0.6", ("ruff",)),  # test_package_layout runs it

@@ -20,7 +20,7 @@ import sys
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO, overload
 
 import numpy as np
 
@@ -132,6 +132,12 @@ def atomic_write(path: str | os.PathLike, write: Callable[[Path], object]) -> Pa
     return path
 
 
+@overload
+def jsonable(value: Mapping[Any, Any]) -> dict[str, Any]: ...
+@overload
+def jsonable(value: list[Any] | tuple[Any, ...] | np.ndarray) -> list[Any]: ...
+@overload
+def jsonable(value: object) -> object: ...
 def jsonable(value: object) -> object:
     """``value`` with numpy scalars/arrays as Python numbers/lists and NaN/inf as null (JSON has no NaN)."""
     if isinstance(value, Mapping):

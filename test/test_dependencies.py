@@ -48,8 +48,8 @@ ROSDEP = {
     "dask[distributed]": None, "pyarrow": None, "plotly": None,
     "pytest": "python3-pytest", "pytest-timeout": "python3-pytest-timeout",
     "hypothesis": "python3-hypothesis", "filterpy": "python3-filterpy-pip", "ruff": "python3-ruff-pip",
-    "mcap": None, "playwright": None, "mypy": "python3-mypy", "types-PyYAML": None, "types-tqdm": None,
-    "scipy-stubs": None, "pandas-stubs": None,
+    "mcap": None, "playwright": None, "mypy": "python3-mypy", "jsonschema": "python3-jsonschema",
+    "types-PyYAML": None, "types-tqdm": None, "scipy-stubs": None, "pandas-stubs": None,
 }
 
 

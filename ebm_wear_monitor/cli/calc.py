@@ -17,12 +17,15 @@ Each calculator reads only the unit-file blocks it uses (interface.md section 3)
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ebm_wear_monitor.outputs import check_destination, write_json
 from ebm_wear_monitor.params import ACTUATOR_BLOCKS, CONTACT_BLOCKS, WEAR_BLOCKS, load_unit
 from ebm_wear_monitor.physics.kinematics import KINEMATICS
 from ebm_wear_monitor.physics.plasticity import KAPPA_READINGS, RADIUS_READINGS
+
+if TYPE_CHECKING:
+    from ebm_wear_monitor.schema.calc import ActuatorResult, ContactResult, WearResult
 
 
 def _readings(parser: argparse.ArgumentParser) -> None:
@@ -83,7 +86,7 @@ BLOCKS = {"contact": CONTACT_BLOCKS, "wear": WEAR_BLOCKS, "actuator": ACTUATOR_B
 def run(args: argparse.Namespace) -> int:
     check_destination(args.json, "--json")
     unit = load_unit(args.params, BLOCKS[args.calculator])
-    result: dict[str, Any]
+    result: ContactResult | WearResult | ActuatorResult
     if args.calculator == "contact":
         from ebm_wear_monitor.physics import contact_report
         result = contact_report(unit, axial_force=args.axial_force, normal_load_n=args.normal_load,

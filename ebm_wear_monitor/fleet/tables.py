@@ -57,7 +57,9 @@ def flatten(entry: dict) -> dict:
     if row["status"] is None:
         row["status"] = STATUS_INSUFFICIENT
     est, limit = row["clearance_estimate_m"], row["limit_m"]
-    row["clearance_fraction"] = est / limit if est is not None and limit else None
+    row["clearance_fraction"] = None
+    if isinstance(est, float | int) and isinstance(limit, float | int) and limit:
+        row["clearance_fraction"] = est / limit
     row["bags"] = len(entry.get("bags", []))
     if entry.get("prognostics") is not None:
         row |= json_row("units", Prognostics, entry["prognostics"])

@@ -19,13 +19,21 @@ See :mod:`.core` for the data flow and :mod:`.config` for every threshold.
 
 from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, SIGNALS
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter_specs
-from ebm_wear_monitor.monitor.core import Application, CycleSummary, MonitorCore, MonitorSnapshot
+from ebm_wear_monitor.monitor.core import Application, MonitorCore
 from ebm_wear_monitor.monitor.feeder import Feeder
 from ebm_wear_monitor.monitor.persistence import load_state, save_state
 from ebm_wear_monitor.monitor.segmentation import PHASES, SampleLabels, label_samples
 from ebm_wear_monitor.monitor.state import MonitorState, StateError
 from ebm_wear_monitor.monitor.wire import Batch, stamp_ns
-from ebm_wear_monitor.schema.monitor import STATUS_DUE, STATUS_INSUFFICIENT, STATUS_OK, STATUS_WARN, STATUSES
+from ebm_wear_monitor.schema.monitor import (
+    STATUS_DUE,
+    STATUS_INSUFFICIENT,
+    STATUS_OK,
+    STATUS_WARN,
+    STATUSES,
+    CycleSummary,
+    MonitorSnapshot,
+)
 
 __all__ = [
     "FAULT_KINDS",

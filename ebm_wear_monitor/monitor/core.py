@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 
@@ -51,11 +51,14 @@ WearRatesFn = Callable[[np.ndarray, np.ndarray], Any]  # (F [N], omega [rad/s]) 
 GrowthFn = Callable[[float, float, float], float]  # (screw, nut, ball wear [m]) -> clearance growth [m]
 
 
+_T = TypeVar("_T")
+
+
 class Application(NamedTuple):
     """Event of one completed brake application: its summary and the core's snapshot right after it."""
 
     cycle: CycleSummary
-    snapshot: MonitorSnapshot | None  # None when asked for the cycles only (MonitorCore.process)
+    snapshot: MonitorSnapshot
 
 
 def _physics(unit: UnitParams, method: str) -> tuple[WearRatesFn, GrowthFn]:
@@ -136,19 +139,20 @@ class MonitorCore:
 
         Returns the brake applications completed on the way, in order.
         """
-        return [a.cycle for a in self._run(final, snapshots=False)]
+        return [cycle for cycle, _ in self._run(final, lambda: None)]
 
     def process_events(self, final: bool = False) -> list[Application]:
         """As :meth:`process`, each application with the snapshot taken right after it (chunk-invariant)."""
-        return self._run(final, snapshots=True)
+        return [Application(cycle, snap) for cycle, snap in self._run(final, self.snapshot)]
 
-    def _run(self, final: bool, snapshots: bool) -> list[Application]:
+    def _run(self, final: bool, after: Callable[[], _T]) -> list[tuple[CycleSummary, _T]]:
+        """Completed applications, each with ``after()`` called right after it (a snapshot, or nothing)."""
         batch = self._aligner.release(final)
-        out: list[Application] = []
+        out: list[tuple[CycleSummary, _T]] = []
         for seg in self._segmenter.feed(batch, final):
             summary = self._integrate(seg)
             if summary is not None:
-                out.append(Application(summary, self.snapshot() if snapshots else None))
+                out.append((summary, after()))
                 if (self.state_path is not None
                         and self._st.duty_cycles % self.config.checkpoint_every_cycles == 0):
                     self.save()
@@ -180,7 +184,8 @@ class MonitorCore:
         st.first_cycle_ns = seg.start_ns if st.first_cycle_ns is None else st.first_cycle_ns
         st.last_cycle_ns = seg.start_ns
         model = self.model_clearance()
-        growth = model - st.model_clearance_at_filter_m
+        last = st.model_clearance_at_filter_m  # set when the core starts: never None here
+        growth = model - (model if last is None else last)
         st.model_clearance_at_filter_m = model
         obs = observe_clearance(seg, self._th, self.config, *self.force_lag())
         st.force_lag_weight, st.force_lag_weighted_sum = pool_lag(
@@ -202,7 +207,7 @@ class MonitorCore:
             clearance_estimate_m=estimate, clearance_std_m=estimate_std, growth_rate_m_per_cycle=rate,
             growth_rate_std_m_per_cycle=rate_std, wear_rate_factor=factor, wear_rate_factor_std=factor_std)
 
-    def _start_tracker(self, saved: dict | None) -> ClearanceTracker:
+    def _start_tracker(self, saved: dict[str, Any] | None) -> ClearanceTracker:
         """The clearance tracker: resumed, migrated from a version-1 filter, or at the nominal prior."""
         cfg, limit = self.config, self.unit.monitor.clearance_limit
         if saved is not None and "legacy_filter" in saved:

@@ -57,7 +57,8 @@ def actuator_torques(unit: UnitParams, clamp_force: float) -> ActuatorResult:
     return ActuatorResult(
         load_torque_Nm=load, friction_torque_Nm=friction, motor_torque_Nm=motor,
         torque_transfer_ratio=load / motor if motor > 0.0 else 0.0, static_friction_torque_Nm=static,
-        release_torque_Nm=load - static, motor_current_A=motor / unit.require_actuator().motor.torque_constant)
+        release_torque_Nm=load - static,
+        motor_current_A=motor / unit.require_actuator().motor.torque_constant)
 
 
 def gap_closing(unit: UnitParams, law: FrictionLaw | None = None,

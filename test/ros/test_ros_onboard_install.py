@@ -56,7 +56,7 @@ def test_a_real_onboard_venv_runs_the_node(tmp_path, procs) -> None:
     player = procs.start([sys.executable, "-m", "ebm_wear_monitor.ros.player", str(REPO / "bags/healthy"),
                           "--no-progress"], cwd=REPO)
     assert player.wait(timeout=120) == 0, player.stderr.read()
-    expected = replay_bags([REPO / "bags/healthy"], load_unit()).units[0].summary
+    expected = replay_bags([REPO / "bags/healthy"], load_unit()).units[0].snapshot.to_json_dict()
     seen = lines.wait_until(lambda s: any(m["topic"] == "wear" and m["msg"]["duty_cycles"] == 8
                                           for m in s), 30)
     wear = next(m["msg"] for m in reversed(seen) if m["topic"] == "wear")
