@@ -17,7 +17,8 @@ def test_package_xml_is_format3_ament_python_with_runtime_deps() -> None:
     assert root.findtext("name") == "ebm_wear_monitor"
     assert root.find("export/build_type").text == "ament_python"
     deps = {d.text for d in root.findall("depend")} | {d.text for d in root.findall("exec_depend")}
-    assert {"rclpy", "std_msgs", "diagnostic_msgs", "ebm_wear_msgs"} <= deps
+    assert {"rclpy", "diagnostic_msgs", "ebm_wear_msgs"} <= deps  # exactly: test_dependencies.py
+    assert "std_msgs" in {d.text for d in root.findall("test_depend")}  # only a test imports it
 
 
 def test_ament_resource_marker_and_versions_agree() -> None:
