@@ -4,13 +4,14 @@ Every effect maps a parameter vector ``theta`` (one or two numbers with a
 physical meaning and a unit) onto an :class:`~.residuals.Augment` of the
 nominal twin of 004.  Most effects are linear in their parameters, so their fit
 is a linear least-squares problem; :mod:`.ranking` solves all of them with the
-same bounded Gauss-Newton solver.
+same bounded Gauss-Newton solver, together with the acquisition nuisances of the
+channels the effect acts in.
 
 ==========================  ==============================================================  =============
 name                        augmentation (motor shaft, s = sgn(w_m); nut side for forces)   parameters
 ==========================  ==============================================================  =============
 viscous_friction            T_f += dB w_m (004 eq. 9, reason 1: lubricant drag left out)    dB [N m s/rad]
-load_friction               G -> G + dG in the moving and stick branches of 004 eq. 9        dG [N m/N]
+load_friction               G -> G + dG in the moving branch of 004 eq. 9                   dG [N m/N]
                             (reasons 2 and 5: roughness, lubrication, coaxiality)
 efficiency_variation        T_f += s T_L (a_0 + a_w |w_m|): the loss factor 1/eta - 1 of   a_0 [-],
                             004 eq. 29 varying with speed                                   a_w [s/rad]
@@ -22,12 +23,25 @@ stribeck                    T_f += s T_S exp(-(|w_m| / w_S)^2): friction falling
                             static towards Coulomb over a speed range                       w_S [rad/s]
 stiffness_nonlinearity      F = K_b d + k_2 d^2, d = x - x_ag (004 eq. 5 made progressive)   k_2 [N/m^2]
 clearance_growth            x_ag -> x_ag + dx (004 eq. 5; wear of balls and raceways)         dx [m]
-force_sensor_bias           F_meas = (1 + g) F + b                                           b [N], g [-]
+force_sensor_bias           F_read = b + (1 + g) F; the offset b is the tare, estimated from  g [-]
+                            the pads-open reading (:mod:`.conventions`), so the effect is
+                            the gain error g that no tare removes
 ==========================  ==============================================================  =============
 
-``scale`` gives a typical magnitude per parameter (for the solver's scaling and
-for the self-test's sense of "10 % of the affected quantity"); ``start`` lists
-starting points for the one non-linear parameter (the Stribeck speed).
+Each effect also has a **size**: one number in the unit people judge it by (a
+fraction of the nominal parameter it changes, metres of clearance), which
+:mod:`.tolerance` compares with the effect's detectability floor:
+
+* viscous_friction |dB| / B; load_friction |dG| / G; preload_change |dT| / T_fc;
+* efficiency_variation: the largest extra friction over the recorded speed range
+  as a fraction of the load torque, max |a_0 + a_w |w_m||;
+* stribeck: the extra friction at zero speed as a fraction of T_fc, |T_S| / T_fc;
+* stiffness_nonlinearity: the change of the tangent stiffness at the recording's
+  largest clamp deflection d_max, |2 k_2 d_max| / K_b;
+* clearance_growth: |dx| [m]; force_sensor_bias: |g| (a fraction of the reading).
+
+``scale`` gives a typical magnitude per parameter (the solver's scaling);
+``starts`` lists starting points (several for the non-linear Stribeck speed).
 """
 
 from __future__ import annotations
@@ -42,7 +56,7 @@ from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
 
 @dataclass(frozen=True)
 class Effect:
-    """One catalog entry: parameters with units and their map onto an :class:`Augment`."""
+    """One catalog entry: parameters with units, their map onto an :class:`Augment`, and its size."""
 
     name: str
     meaning: str
@@ -53,44 +67,79 @@ class Effect:
     starts: tuple[tuple[float, ...], ...]  # starting points of the fit
     lower: tuple[float, ...] | None = None  # bounds (None: unbounded)
     upper: tuple[float, ...] | None = None
+    channels: tuple[str, ...] = ("torque",)  # residual channels the effect acts in
+    #: size of a parameter vector in the unit people judge it by (module docstring), >= 0
+    size: Callable[[np.ndarray], float] = lambda p: float(np.abs(p[0]))
+    size_unit: str = "-"
+    size_meaning: str = ""
+    #: per parameter: (name of the nominal quantity it changes, its nominal value) or None
+    nominal: tuple[tuple[str, float] | None, ...] = ()
 
     @property
     def k(self) -> int:
         """Number of fitted parameters."""
         return len(self.params)
 
+    def magnitude(self, theta: np.ndarray, stderr: np.ndarray) -> dict[str, dict]:
+        """Parameters in physical units, each also as a fraction of the nominal quantity it changes."""
+        out = {}
+        for i, (p, u) in enumerate(zip(self.params, self.units, strict=True)):
+            entry = {"value": float(theta[i]), "std": float(stderr[i]), "unit": u}
+            ref = self.nominal[i] if i < len(self.nominal) else None
+            if ref is not None and ref[1] != 0.0:
+                entry |= {"nominal_name": ref[0], "nominal_value": ref[1],
+                          "fraction": float(theta[i] / ref[1]), "fraction_std": float(stderr[i] / abs(ref[1]))}
+            out[p] = entry
+        return out
 
-def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0e4) -> dict[str, Effect]:
+
+def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0e4,
+                  speed_range: tuple[float, float] = (0.0, 200.0)) -> dict[str, Effect]:
     """The eight effects of interface.md section 4 for a nominal twin.
 
     ``max_speed`` (motor, [rad/s]) and ``max_force`` [N] of the recording set the
-    parameter scales (a 10 % change of the affected quantity at the recording's range).
+    parameter scales (a 10 % change of the affected quantity at the recording's range);
+    ``speed_range`` (motor, [rad/s]) the speeds over which the efficiency effect's size is taken.
     """
     d_max = max_force / nom.K_b  # clamp deflection at the largest force [m]
     s_grid = [max_speed * f for f in (0.02, 0.08, 0.3)]
+    w_lo, w_hi = speed_range
     effects = [
         Effect("viscous_friction", "lubricant viscous drag larger than modelled (004 reason 1)",
-               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(nom.B, 1e-4),), ((0.0,),)),
+               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(nom.B, 1e-4),), ((0.0,),),
+               size=lambda p: abs(p[0]) / nom.B, size_meaning="fraction of B", nominal=(("B", nom.B),)),
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
-               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(nom.G, 1e-6),), ((0.0,),)),
+               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(nom.G, 1e-6),), ((0.0,),),
+               size=lambda p: abs(p[0]) / nom.G, size_meaning="fraction of G", nominal=(("G", nom.G),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
                ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),
-               (0.1, 0.1 / max_speed), ((0.0, 0.0),)),
+               (0.1, 0.1 / max_speed), ((0.0, 0.0),),
+               size=lambda p: max(abs(p[0] + p[1] * w_lo), abs(p[0] + p[1] * w_hi)),
+               size_meaning="largest extra friction over the recorded speeds, fraction of the load torque",
+               nominal=(None, None)),
         Effect("preload_change", "preload different from design: static and Coulomb shift (004 reason 4)",
-               ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * nom.T_fc,), ((0.0,),)),
+               ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * nom.T_fc,), ((0.0,),),
+               size=lambda p: abs(p[0]) / nom.T_fc, size_meaning="fraction of T_fc",
+               nominal=(("T_fc", nom.T_fc),)),
         Effect("stribeck", "friction falling from static to Coulomb over a speed range",
                ("T_S", "w_S"), ("N m", "rad/s"),
                lambda p: Augment(stribeck_torque=p[0], stribeck_speed=p[1]),
                (0.1 * nom.T_fc, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
-               (-np.inf, 0.2), (np.inf, 2.0 * max_speed)),
+               (-np.inf, 0.2), (np.inf, 2.0 * max_speed),
+               size=lambda p: abs(p[0]) / nom.T_fc, size_meaning="extra friction at zero speed, fraction of T_fc",
+               nominal=(("T_fc", nom.T_fc), None)),
         Effect("stiffness_nonlinearity", "clamp stiffness growing with force (004 eq. 5 progressive)",
                ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * nom.K_b / d_max,),
-               ((0.0,),)),
+               ((0.0,),), channels=("force",), size=lambda p: abs(2.0 * p[0] * d_max) / nom.K_b,
+               size_meaning="tangent-stiffness change at the largest recorded force, fraction of K_b",
+               nominal=(None,)),
         Effect("clearance_growth", "axial clearance larger than nominal (wear)", ("dx",), ("m",),
-               lambda p: Augment(clearance=p[0]), (0.1 * nom.x_ag,), ((0.0,),)),
-        Effect("force_sensor_bias", "offset and gain error of the axial-force measurement",
-               ("b", "g"), ("N", "-"), lambda p: Augment(force_bias=p[0], force_gain=p[1]),
-               (0.01 * max_force, 0.01), ((0.0, 0.0),), (-np.inf, -0.5), (np.inf, 1.0)),
+               lambda p: Augment(clearance=p[0]), (0.1 * nom.x_ag,), ((0.0,),), channels=("force",),
+               size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", nom.x_ag),)),
+        Effect("force_sensor_bias", "gain error of the axial-force measurement (the offset is the tare)",
+               ("g",), ("-",), lambda p: Augment(force_gain=p[0]), (0.01,), ((0.0,),), (-0.5,), (1.0,),
+               channels=("torque", "force"), size_meaning="gain error, fraction of the reading",
+               nominal=(None,)),
     ]
     return {e.name: e for e in effects}
 
@@ -101,10 +150,28 @@ def friction_refit(nom: Nominal) -> Effect:
     (T_fs is not identified by the torque balance at rest, see :mod:`.residuals`.)
 
     Not a catalog entry (it nests viscous_friction, load_friction and preload_change and
-    would explain any friction effect at the price of three parameters, plus the two timing
-    nuisances); the diagnosis reports it beside the ranking as the unit's refitted friction law.
+    would explain any friction effect at the price of three parameters); the diagnosis
+    reports it beside the ranking as the unit's refitted friction law.
     """
     return Effect("friction_refit", "T_fc, B and G of 004 eq. 9 refitted together",
                   ("dT_fc", "dB", "dG"), ("N m", "N m s/rad", "N m/N"),
                   lambda p: Augment(dT_fc=p[0], dB=p[1], dG=p[2]),
-                  (0.1 * nom.T_fc, 0.1 * max(nom.B, 1e-4), 0.1 * max(nom.G, 1e-6)), ((0.0, 0.0, 0.0),))
+                  (0.1 * nom.T_fc, 0.1 * max(nom.B, 1e-4), 0.1 * max(nom.G, 1e-6)), ((0.0, 0.0, 0.0),),
+                  nominal=(("T_fc", nom.T_fc), ("B", nom.B), ("G", nom.G)))
+
+
+def combine(a: Effect, b: Effect) -> Effect:
+    """Two effects fitted together (forward selection): parameters side by side, augments merged."""
+    ka = a.k
+
+    def to_augment(p: np.ndarray) -> Augment:
+        pa, pb = a.to_augment(p[:ka]), b.to_augment(p[ka:])
+        merged = {f: getattr(pb, f) if getattr(pb, f) != getattr(Augment(), f) else getattr(pa, f)
+                  for f in Augment.__dataclass_fields__}
+        return Augment(**merged)
+
+    lo = (a.lower or (-np.inf,) * ka) + (b.lower or (-np.inf,) * b.k)
+    hi = (a.upper or (np.inf,) * ka) + (b.upper or (np.inf,) * b.k)
+    return Effect(f"{a.name}+{b.name}", f"{a.meaning}; {b.meaning}", a.params + b.params, a.units + b.units,
+                  to_augment, a.scale + b.scale, tuple((*sa, *sb) for sa in a.starts for sb in b.starts),
+                  lo, hi, tuple(dict.fromkeys(a.channels + b.channels)), nominal=a.nominal + b.nominal)

@@ -8,8 +8,10 @@ force held: the stick branch of 004 eq. 9) and ``force_release`` (screw turns
 back).  Samples at rest without force are ``idle`` (between applications).
 
 Recordings carry no phase topic, so the labels are derived here with a small
-rule on the smoothed velocity v and force F (a moving average over
-``smooth_s``, 10 ms by default):
+rule on the smoothed speed v and force F (a moving average over ``smooth_s``,
+10 ms by default).  The speed is the angle's own derivative
+(:func:`.speed.angle_speed`), not the recorded velocity, whose lag depends on how
+the drive estimates it:
 
 * moving forward if v > eps_v, backward if v < -eps_v, at rest otherwise;
 * in contact if F > F_0 + F_on, F_0 the force reading without contact, taken as
@@ -23,7 +25,8 @@ rule on the smoothed velocity v and force F (a moving average over
   (controller dither in force maintenance would otherwise flicker the label).
 
 A new brake cycle starts at the first forward run (``clearance_elimination``
-or ``force_generation``) after a ``force_release`` run.
+or ``force_generation``) after a ``force_release`` run.  The idle samples before a
+cycle give its released rest angle and force tare (:mod:`.conventions`).
 
 Why not the monitor's segmentation (:mod:`ebm_wear_monitor.monitor.segmentation`)?
 It is a causal state machine built for the online wear integral: its
@@ -31,19 +34,7 @@ It is a causal state machine built for the online wear integral: its
 *moving* samples only (memory bounded by moving time), so force-maintenance and
 idle samples carry no label, and a stretch that starts at the start of the data
 or after a gap is ``motion`` without phases.  The diagnosis needs a label for
-every sample: the idle samples give the rest angle from which the nut travel is
-counted (:func:`.residuals.rest_angle`), maintenance samples are the stick
-branch of 004 eq. 9, and blocks must not straddle any phase boundary, the
-first cycle of a recording included.  The monitor now gives per-sample labels
-(:func:`ebm_wear_monitor.monitor.segmentation.label_samples`), and switching to
-them was measured: the monitor's phase boundaries sit at its moving / stopped
-thresholds (1 mm/s of nut speed), above the stick-slip transition, so the slow creep at the end of force
-generation and at both ends of the release falls into maintenance and idle
-runs and forms blocks of its own.  The self-test's top-1 accuracy fell from
-91.1 % to 89.9 % (twin_x8 89.2 -> 87.5 %; false positives 0 either way) and
-004's viscous refit moved by 2-3 standard errors (actuator 4 out of tolerance).
-Until the residual model handles that creep, this offline, non-causal rule
-(smoothing, then the same four phases of 000 Fig. 2) stays.
+every sample, the first cycle of a recording included.
 """
 
 from __future__ import annotations
@@ -55,6 +46,7 @@ from scipy.ndimage import uniform_filter1d
 
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.speed import angle_speed
 
 PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
 IDLE = -1
@@ -69,6 +61,7 @@ class Segmentation:
     cycle: np.ndarray  # int32 per sample
     eps_velocity: float  # rest band of the screw velocity [rad/s]
     force_on: float  # contact threshold of the axial force reading [N] (includes the no-contact reading)
+    force_rise: float = 0.0  # the same threshold above the no-contact reading F_0 [N]
 
     @property
     def n_cycles(self) -> int:
@@ -82,12 +75,17 @@ def _runs(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return starts, lengths
 
 
-def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> Segmentation:
-    """Phase code and cycle index per sample by the rule of the module docstring."""
+def segment(rec: Recording, speed: np.ndarray | None = None, smooth_s: float = 0.01,
+            min_run_s: float = 0.02) -> Segmentation:
+    """Phase code and cycle index per sample by the rule of the module docstring.
+
+    ``speed``: screw speed per sample [rad/s]; default :func:`.speed.angle_speed` of the recording.
+    """
+    speed = angle_speed(rec)[0] if speed is None else speed
     w = max(1, round(smooth_s / rec.dt))
-    v = uniform_filter1d(rec.velocity, w, mode="nearest")
+    v = uniform_filter1d(speed, w, mode="nearest")
     f = uniform_filter1d(rec.axial_force, w, mode="nearest")
-    eps_v = max(5.0 * signal_noise(rec.velocity) / np.sqrt(w), 0.02 * np.percentile(np.abs(v), 99))
+    eps_v = max(5.0 * signal_noise(speed) / np.sqrt(w), 0.02 * np.percentile(np.abs(v), 99))
     f0 = float(np.percentile(f, 5))
     f_on = max(5.0 * signal_noise(rec.axial_force) / np.sqrt(w), 0.02 * (np.percentile(f, 99) - f0))
     contact = f > f0 + f_on
@@ -118,4 +116,4 @@ def segment(rec: Recording, smooth_s: float = 0.01, min_run_s: float = 0.02) -> 
             new_cycle[i] = True
             released = False
     cycle = np.repeat(np.cumsum(new_cycle), lengths).astype(np.int32)
-    return Segmentation(phase, cycle, float(eps_v), float(f0 + f_on))
+    return Segmentation(phase, cycle, float(eps_v), float(f0 + f_on), float(f_on))

@@ -2,25 +2,36 @@
 
     result = diagnose_recording(recording, unit)
 
-1. phases and cycles from the signals (:mod:`.phases`);
-2. block residuals of the nominal twin of 004 in the torque and force channels,
+1. phases and cycles from the signals (:mod:`.phases`), the speed from the angle;
+2. the recording's conventions, estimated from the data (:mod:`.conventions`): released
+   rest angle and force tare per application, the recorded velocity's lag and gain;
+3. block residuals of the nominal twin of 004 in the torque and force channels,
    re-anchored every block (:mod:`.residuals`), normalised by measured noise
    (measured twice: on the nominal residual, then on the residual of the best
-   effect of a first ranking, which holds less model error);
-3. every catalog effect (:mod:`.catalog`) fitted on calibration cycles and
-   judged on held-out cycles (:mod:`.ranking`);
-4. ``where`` before and after the top effect (:mod:`.where`).
+   effect of a first ranking, which holds less model error), with the acquisition
+   nuisances fitted;
+4. every catalog effect (:mod:`.catalog`) fitted on calibration cycles and judged
+   on held-out cycles against the noise and against its detectability floor from
+   the model-tolerance budget (:mod:`.tolerance`), a second effect by forward
+   selection, and the verdict (:mod:`.ranking`);
+5. ``where`` before and after the explaining model (:mod:`.where`), and a summary in
+   plain words.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
+from ebm_wear_monitor.diagnosis.conventions import estimate_conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import segment
 from ebm_wear_monitor.diagnosis.ranking import (
+    GAP_MATERIAL,
     METRIC,
+    SHRINK_NEEDED,
+    EffectFit,
     Ranking,
     Scorer,
     evaluate,
@@ -29,12 +40,13 @@ from ebm_wear_monitor.diagnosis.ranking import (
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording
-from ebm_wear_monitor.diagnosis.residuals import Nominal, ResidualModel
+from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, Nominal, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.params import UnitParams
 
 RESIDUAL_METHOD = ("torque balance of 004 eq. 1 re-anchored to the recorded state every block "
-                   "(integrated current vs recorded speed change) and force-travel law of 004 eq. 5")
+                   "(integrated current vs the speed change of the angle) and force-travel law of 004 eq. 5 "
+                   "from each application's released rest angle and force tare")
 
 
 def shrink(gap_before: float, gap_after: float) -> float:
@@ -43,12 +55,16 @@ def shrink(gap_before: float, gap_after: float) -> float:
 
 
 def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Scorer, Ranking]:
-    """Segment, build residuals and rank the catalog; the pieces behind :func:`diagnose_recording`."""
+    """Segment, estimate conventions, build residuals and rank the catalog (:func:`diagnose_recording`)."""
     seg = segment(rec)
+    conv = estimate_conventions(rec, seg)
     nominal = Nominal.from_unit(unit)
-    model = ResidualModel(rec, seg, nominal, block_s=block_s)
-    catalog = build_catalog(nominal, max_speed=float(np.percentile(np.abs(model.w_m), 99.5)),
-                            max_force=float(max(np.percentile(rec.axial_force, 99.5), 1.0)))
+    model = ResidualModel(rec, seg, conv, nominal, block_s=block_s)
+    moving = model.speed[model.moving]
+    lo, hi = (np.percentile(moving, [5.0, 95.0]) if moving.size else (0.0, 1.0))
+    catalog = build_catalog(nominal, max_speed=float(np.percentile(model.speed, 99.5)),
+                            max_force=float(max(np.percentile(model.force, 99.5), 1.0)),
+                            speed_range=(float(lo), float(hi)))
     # two passes: the noise is measured again on the residual of the first pass's best effect
     first = rank(Scorer.build(model), catalog)
     sc = Scorer.build(model, reference=first.top.augment)
@@ -60,34 +76,93 @@ def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) 
     return diagnose_with_state(rec, unit, block_s)[0]
 
 
+def _percent(f: float) -> str:
+    return f"{100.0 * f:+.0f} %"
+
+
+def describe(f: EffectFit) -> str:
+    """One effect's fitted size in plain words with the units people read (µm, %, N m)."""
+    e, mag = f.effect, f.effect.magnitude(f.theta, f.stderr)
+    words = e.meaning.split(" (")[0]
+    if e.name == "clearance_growth":
+        m = mag["dx"]
+        return (f"{words}: {m['value'] * 1e6:+.1f} µm ± {m['std'] * 1e6:.1f} µm "
+                f"({_percent(m['fraction'])} of the nominal clearance x_ag)")
+    first = mag[e.params[0]]
+    if "fraction" in first:
+        return (f"{words}: {_percent(first['fraction'])} ± {100.0 * first['fraction_std']:.0f} % "
+                f"of {first['nominal_name']}")
+    return f"{words}: {100.0 * f.size:.1f} % ± {100.0 * f.size_std:.1f} % ({e.size_meaning})"
+
+
+def summary(ranking: Ranking) -> str:
+    """The verdict in plain words."""
+    gap = f"held-out gap {ranking.gap_before:.2f} x noise within tolerance"
+    if ranking.verdict == "effect":
+        parts = [describe(f) for f in sorted(ranking.selected, key=lambda f: -f.score)]
+        joint = ranking.joint
+        return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
+                f"{100.0 * joint.shrink:.0f} % of the {gap}.")
+    if ranking.verdict == "unexplained":
+        return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
+                f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
+                "the catalog is likely.")
+    return (f"The twin explains the recording within its tolerance ({gap}); no effect is both significant "
+            "and above its detectability floor.")
+
+
+def nuisance_report(sc: Scorer) -> dict[str, dict]:
+    """Every acquisition convention estimated from the data: value, std, unit (interface.md section 4)."""
+    out = {name: e.as_dict() for name, e in sc.model.conv.estimates.items()}
+    for name, value in nuisances_of(sc.base.aug).items():
+        out[name] = {"value": value, "std": sc.base_std.get(name, float("nan")), "unit": NUISANCE_UNITS[name]}
+    return out
+
+
 def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
                         ) -> tuple[dict, Scorer, Ranking]:
-    """:func:`diagnose_recording` plus the residual model and ranking behind it (for the report)."""
+    """:func:`diagnose_recording` plus the residual model and ranking behind it (for the report).
+
+    BLAS runs on one thread: the fits solve hundreds of small least-squares problems, for which
+    a multithreaded BLAS on a busy machine is tens of times slower than one thread.
+    """
+    with threadpool_limits(1, user_api="blas"):
+        return _diagnose(rec, unit, block_s)
+
+
+def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[dict, Scorer, Ranking]:
     sc, ranking = analyse(rec, unit, block_s)
     top = ranking.top
-    found = ranking.verdict == "effect"
+    explained = ranking.explained
     nominal = sc.model.nominal
     b = sc.model.blocks
     ties = [f for f in ranking.fits[1:] if f.effect.name in top.ties]
     experiments = [separating_experiment(
-        nominal, top, f, max_speed=float(np.abs(sc.model.w_m).max()), max_force=float(rec.axial_force.max()),
+        nominal, top, f, max_speed=float(sc.model.speed.max()), max_force=float(sc.model.force.max()),
         sigma_torque=float(np.median(sc.sigma_torque)), sigma_force=float(np.median(sc.sigma_force)))
         for f in ties]
-    gap_after = top.gap_after if found else ranking.gap_before
-    refit = evaluate(sc, friction_refit(nominal), nominal_sse(sc))
+    gap_after = explained.gap_after if explained is not None else ranking.gap_before
+    refit = evaluate(sc, friction_refit(nominal), nominal_sse(sc), ranking.gap_before)
     base = {"dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
+    effect = ranking.effect
     return ({
         "unit": rec.unit,
         "verdict": ranking.verdict,
-        "effect": top.effect.name if found else None,
+        "effect": effect.effect.name if effect is not None else None,
+        "effects": [f.effect.name for f in ranking.selected] if explained is not None else [],
+        "summary": summary(ranking),
         "ranking": [f.as_dict() for f in ranking.fits],
         "where": where_table(sc, sc.base),
-        "where_after": where_table(sc, top.augment) if found else None,
+        "where_after": where_table(sc, explained.model) if explained is not None else None,
         "gap_before": ranking.gap_before,
+        "gap_nominal": ranking.gap_nominal,
         "gap_after": gap_after,
         "shrink": shrink(ranking.gap_before, gap_after),
+        "shrink_needed": SHRINK_NEEDED,
+        "gap_material": GAP_MATERIAL,
         "metric": METRIC,
         "significance_level": ranking.alpha,
+        "nuisances": nuisance_report(sc),
         "near_ties": experiments,
         "friction_refit": refit.as_dict() | {
             "nominal": {"T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
@@ -97,6 +172,4 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
                    "heldout": [int(c) for c in sc.split.heldout_cycles]},
         "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         "residual_method": RESIDUAL_METHOD,
-        "current_time_shift_s": sc.base.current_shift,
-        "load_quadrature_shift_s": sc.base.load_shift,
     }, sc, ranking)

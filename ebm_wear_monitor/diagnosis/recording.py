@@ -3,15 +3,22 @@
 The diagnosis works on screw-side signals as recorded (``screw/angle`` [rad],
 ``screw/velocity`` [rad/s], ``axial_force`` [N], ``motor/current`` [A]) and refers
 them to the motor shaft where 004 eq. 1 needs it (004 eq. 3: theta_m = i_g theta_c).
-Bags may deliver the topics at slightly different stamps, late, duplicated or
-with gaps; :func:`recording_from_signals` sorts, de-duplicates and linearly
-interpolates every signal onto the stamps of ``screw/velocity``.
+
+Topics need not share a rate or stamps (interface.md section 2): angle and velocity
+at 2 kHz, force at 1 kHz and current at 500 Hz, each with its own phase and jitter,
+is a normal recording.  :func:`recording_from_signals` sorts and de-duplicates each
+signal and interpolates every one linearly onto the stamps of ``screw/angle``, the
+motion itself, within the span common to all.  The native sample interval of each
+signal is kept (:attr:`Recording.native_dt`): it bounds the timing nuisances of
+:mod:`.residuals` (a signal sampled every h seconds is ambiguous in its timing by
+up to h).  Time is counted from the first common stamp (float seconds keep
+sub-microsecond resolution over days that way).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,10 +35,12 @@ class Recording:
 
     t: np.ndarray  # sample time [s], strictly increasing
     angle: np.ndarray  # screw angle, unwrapped, apply direction positive [rad]
-    velocity: np.ndarray  # screw angular velocity [rad/s]
-    axial_force: np.ndarray  # axial (clamp) force, compressive positive [N]
+    velocity: np.ndarray  # screw angular velocity as recorded [rad/s]
+    axial_force: np.ndarray  # axial (clamp) force reading, compressive positive [N]
     current: np.ndarray  # motor armature current [A]
     unit: str = "/embu"
+    #: median native sample interval of each signal before interpolation [s] (default: the time base's)
+    native_dt: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         n = self.t.size
@@ -40,13 +49,19 @@ class Recording:
         for name in SIGNALS:
             if getattr(self, name).shape != (n,):
                 raise InputError(f"{self.unit}: signal '{name}' does not match the time base")
+            if not np.all(np.isfinite(getattr(self, name))):
+                raise InputError(f"{self.unit}: signal '{name}' holds non-finite values")
         if not np.all(np.diff(self.t) > 0.0):
             raise InputError(f"{self.unit}: sample times must increase strictly")
 
     @property
     def dt(self) -> float:
-        """Median sample interval [s]."""
+        """Median sample interval of the time base [s]."""
         return float(np.median(np.diff(self.t)))
+
+    def interval(self, signal: str) -> float:
+        """Native sample interval of ``signal`` [s] (the time base's when not recorded)."""
+        return float(self.native_dt.get(signal, self.dt))
 
 
 def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -68,7 +83,7 @@ def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
     Signal names are those of interface.md section 4 (``angle``, ``velocity``,
     ``axial_force``, ``current``; topics in :data:`TOPIC_OF`); all four are needed
     (the twin is driven by the recorded motor current).  Signals are interpolated
-    linearly onto the stamps of ``velocity`` within the span common to all.
+    linearly onto the stamps of ``angle`` within the span common to all.
     """
     series = {}
     for name, topic in TOPIC_OF.items():
@@ -78,9 +93,12 @@ def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
         series[name] = _clean(*signals[name])
         if series[name][0].size < 2:
             raise InputError(f"{unit}: topic '{topic}' has fewer than 2 valid samples")
-    base = series["velocity"][0]
     lo = max(s[0][0] for s in series.values())
     hi = min(s[0][-1] for s in series.values())
+    base = series["angle"][0]
     base = base[(base >= lo) & (base <= hi)]
+    if base.size < 2:
+        raise InputError(f"{unit}: the topics share no common time span")
     values = {name: np.interp(base, *series[name]) for name in SIGNALS}
-    return Recording(base, unit=unit, **values)
+    native = {name: float(np.median(np.diff(series[name][0]))) for name in SIGNALS}
+    return Recording(base - base[0], unit=unit, native_dt=native, **values)

@@ -6,82 +6,70 @@ integrates every torque error twice, and the stiff clamp (004 eq. 5) turns a
 0.05 N m friction mismatch into radians of angle and kilonewtons of force within
 one recording.  A free simulation therefore reports drift, not the model.  This
 module compares the model with the recording in two *algebraic* channels that
-need no integration across more than one short block:
+need no integration across more than one short block.
 
 **Torque channel (004 eq. 1, 7, 9), re-anchored every block.**  Blocks are
 ``block_s`` long (20 ms by default), never straddle a phase or cycle boundary,
-and start from the *recorded* state.  Integrating eq. 1 over a block
-[t0, t1] along the recorded speed and force gives the twin's speed at t1,
+and start from the *recorded* state.  Integrating eq. 1 over a block [t0, t1]
+along the recorded speed and force gives the twin's speed at t1,
 
     w_sim(t1) = w(t0) + (1/J_me) * int_{t0}^{t1} (K_T I - T_L(F) - T_f(w, F)) dt,
 
-(T_L = l F / (2 pi i_g), the load torque at the motor of 004 eq. 1) and the
-block residual is the speed the twin gains over the recording, expressed as the
-mean torque it takes:
+(T_L = l F / (2 pi i_g), the load torque at the motor of 004 eq. 1) and the block
+residual is the speed the twin gains over the recording, expressed as the mean
+torque it takes:
 
     R_T = [int (K_T I - T_L - T_f) dt - J_me (w(t1) - w(t0))] / (t1 - t0)   [N m].
 
 R_T is "recorded motor torque minus the torque the model needs for the recorded
 motion and force"; positive means the real unit needed more torque (e.g. more
-friction) than the twin.  Being an integral of the recorded current and a
-difference of recorded speeds, it needs no numerical differentiation.
-J_me is 004 eq. 2.  The same block gives the twin's velocity error
-w_sim - w at t1 (= R_T (t1 - t0) / J_me) and its angle error at t1 (the
-integral of that velocity error over the block): the *re-anchored short-horizon
-simulation* of the velocity and angle signals.
+friction) than the twin.  The speed w is the angle's own derivative
+(:mod:`.conventions`: a drive's velocity estimate lags, and at 8 N m of inertia
+torque a 1 ms lag is a friction-sized error), taken within each phase run so that
+the block end points never sit on a kink.  J_me is 004 eq. 2.  The same block gives
+the twin's velocity error w_sim - w at t1 (= R_T (t1 - t0) / J_me) and its angle
+error at t1 (the integral of that velocity error over the block): the re-anchored
+short-horizon simulation of the velocity and angle signals.
 
 Friction follows 004 eq. 9, evaluated on the recorded state. Moving
-(|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest (the stick
-branch) eq. 9 only bounds the friction, |T_f| <= T_fs + G F, and the friction
-takes whatever value balances K_T I - T_L - J_me dw_m/dt.  The residual model
-takes it so, i.e. blocks at rest carry no torque residual and the static level
-T_fs is not identified from the torque balance.  (A dead-zone residual, the
-excess of the recorded balance over the band, was tried: sensor noise crossing
-the band edge is clipped on one side only, which biases the static level
-upwards and made "larger T_fs" look significant on noise-only data.)
+(|w_m| > eps):  T_f = (T_fc + G F) sgn(w_m) + B w_m.  At rest (the stick branch)
+eq. 9 only bounds the friction, |T_f| <= T_fs + G F, and the friction takes
+whatever value balances K_T I - T_L - J_me dw_m/dt: blocks at rest carry no
+torque residual and T_fs is not identified from the torque balance.
 
-**Force channel (004 eq. 4-5).**  The nut travel x = l theta_s / (2 pi) (screw
-angle from the recording, counted from the released position) predicts the clamp
-force F = K_b max(0, x - x_ag); the block mean of recorded minus predicted force
-is R_F [N] (the angle is counted from the rest position, the median angle of
-the idle samples, so an encoder offset does not read as clearance).
-It sees clearance, stiffness and force-sensor errors, which the
-torque channel (evaluated at the *recorded* force) does not.
+**Force channel (004 eq. 4-5).**  The nut travel x = l (theta - theta_rest,c) / (2 pi),
+counted from the released rest angle of its application c (:mod:`.conventions`),
+predicts the clamp force F = K_b max(0, x - x_ag); the sensor reads it through its
+tare b_c (:mod:`.conventions`), its gain and its lag.  The block mean of recorded
+minus predicted reading is R_F [N].  It sees clearance, stiffness and force-sensor
+gain errors, which the torque channel (evaluated at the *recorded* force) does not.
 
-**Current timing.**  A sampled current is ambiguous by up to a sample
-interval: a drive may log the current at the start of its control period while
-the torque acts over the period (its mean), and topics may be stamped with a
-skew.  A shift of half a sample turns the motor's current transients into a
-systematic, speed-correlated torque residual.  The shift tau (current read at
-t + tau) is therefore a nuisance parameter of every fit, the nominal twin's
-included (:mod:`.ranking`); it is a property of the data acquisition, not an
-effect of the unit.
+**Acquisition nuisances** (fitted with every model, the nominal one included, by
+:mod:`.ranking`; reported under ``nuisances``; never an effect):
 
-**Quadrature rule of the load.**  The recording gives the force only at the
-samples; how the load torque T_L = l F / (2 pi i_g) acts *between* them is not
-in the data.  A sampled continuous plant follows the trapezoid rule used here;
-a simulator or drive that holds the force over each step of length h (an
-explicit integrator, e.g. the twin's simulator run at the recording rate)
-integrates the left rectangle, sum T_L(F_k) h, which differs from the trapezoid
-by -(h/2)(T_L(t1) - T_L(t0)) per block, i.e. by the trapezoid of T_L read
-h/2 earlier.  In contact dT_L/dt = (l / (2 pi i_g))^2 K_b w_m, so this
-difference is a viscous-looking torque -(h/2) K_eff w_m: left unmodelled, it
-made "viscous_friction" significant on no-effect recordings of the twin at
-0.5-1 kHz (7 of 18).  The load is therefore read at t + tau_M with tau_M a
-second acquisition nuisance, bounded by the rectangle rules to [-dt/2, dt/2]
-(dt the sample interval; h <= dt) and refitted with every model, the nominal
-one included (:mod:`.ranking`).  The price is honest: a viscous change that
-acts only in contact, of at most K_eff dt / 2 (7 % of 004's B at 1 kHz,
-14 % at 500 Hz), is not separable from the quadrature rule; a viscous effect
-is identified by what it does outside contact (clearance elimination, the
-end of the release).  The same error of the current (recorded at the start of
-a period whose mean current drives the motor) telescopes to a multiple of
-I(t1) - I(t0) per block and is the current timing tau.
-
-**Sliding or stuck.**  A sample slides where both the smoothed speed (5 ms
-window) and the raw speed leave their 3-sigma rest bands: the smoothing alone
-widens every motion by half its window and charged T_fc to the samples at rest
-around each start and stop (up to 0.03 N m per 20 ms block at 1 kHz).
+* ``current_shift`` tau_I: the current is read at t + tau_I.  A drive may log the
+  current at the start of its control period while the torque acts over the period
+  (its mean), and topics may be stamped with a skew; bounded by one native current
+  sample interval.
+* ``current_offset`` i_0: the current sensor's zero, K_T (I - i_0).  At rest it is
+  absorbed by the stick branch; while moving it is a torque of the same sign in
+  both directions, which no friction effect (all odd in w_m) can imitate.
+* ``force_skew`` s_F and ``force_lag`` tau_F: the force reading at stamp t is the
+  force of t - s_F seen through a first-order lag tau_F >= 0 (a load cell's
+  amplifier, a topic stamped late).  In the force channel the model is
+  F_read = b_c + (1 + g) L_tau(F(t - s_F)) with L_tau the backward-Euler lag
+  y_k = y_(k-1) + dt/(tau + dt) (u_k - y_(k-1)) (its slope in tau is 1/dt at tau = 0,
+  so the fit can leave zero); in the torque channel the load is read at
+  t + s_F + tau_F (a lag is a delay to first order).
+* ``load_shift`` tau_M: the quadrature rule of the load between samples.  The
+  recording gives the force only at the samples; a sampled continuous plant
+  follows the trapezoid rule used here, a drive or simulator holding the force
+  over each step of length h the left rectangle, which differs from the trapezoid
+  by the trapezoid of T_L read h/2 earlier.  So the load is read a further tau_M
+  in [-dt/2, dt/2] later.  The price is honest: a viscous change that acts only
+  in contact, of at most K_eff dt / 2 (7 % of 004's B at 1 kHz), is not separable
+  from the quadrature rule; a viscous effect is identified by what it does outside
+  contact (clearance elimination, the end of the release).
 
 Unmodelled effects enter as an :class:`Augment` (corrections to the nominal
 parameters and functional forms); :mod:`.catalog` maps each effect's few
@@ -91,19 +79,22 @@ parameters onto it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
+from scipy.signal import lfilter
 
+from ebm_wear_monitor.diagnosis.conventions import Conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
-from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
+from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
 from ebm_wear_monitor.twin.dynamics import actuator_model
 from ebm_wear_monitor.twin.friction import FrictionLaw, sliding_friction
+
+CHANNELS = ("torque", "force")
 
 
 @dataclass(frozen=True)
@@ -138,7 +129,7 @@ class Nominal:
 
 @dataclass(frozen=True)
 class Augment:
-    """Corrections to the nominal twin; every field zero is the nominal twin itself.
+    """Corrections to the nominal twin and the acquisition nuisances; all zero is the nominal twin.
 
     Friction terms are at the motor shaft (004 eq. 9), force terms at the nut (004 eq. 5).
     """
@@ -153,13 +144,35 @@ class Augment:
     stribeck_speed: float = 1.0  # Stribeck speed w_s of exp(-(|w_m|/w_s)^2) [rad/s], > 0
     stiffness_quad: float = 0.0  # k_2 of F = K_b d + k_2 d^2 [N/m^2]
     clearance: float = 0.0  # extra clearance dx_ag [m]
-    force_bias: float = 0.0  # force-sensor offset b: F_meas = (1 + g) F + b [N]
-    force_gain: float = 0.0  # force-sensor gain error g [-]
-    current_shift: float = 0.0  # timing of the current samples relative to the motion samples [s]
-    load_shift: float = 0.0  # timing of the load and friction torque (quadrature-rule nuisance) [s]
+    force_gain: float = 0.0  # force-sensor gain error g: F_read = b + (1 + g) F [-]
+    # ---- acquisition nuisances (module docstring)
+    current_shift: float = 0.0  # tau_I: current read this much later [s]
+    current_offset: float = 0.0  # i_0: current-sensor zero [A]
+    force_skew: float = 0.0  # s_F: force stamped this much late [s]
+    force_lag: float = 0.0  # tau_F: first-order lag of the force reading [s], >= 0
+    load_shift: float = 0.0  # tau_M: quadrature rule of the load between samples [s]
+    # ---- model tolerances (never fitted; :mod:`.tolerance` perturbs them to derive detectability floors)
+    drive_gain: float = 0.0  # relative error of K_T times the current-sensor gain [-]
+    inertia_gain: float = 0.0  # relative error of J_me [-]
+    stiffness_gain: float = 0.0  # relative error of K_b [-]
+    reverse_dT_fc: float = 0.0  # extra Coulomb friction in the release direction only [N m]
+    reverse_dG: float = 0.0  # extra load coefficient in the release direction only [N m/N]
 
 
 NOMINAL = Augment()
+#: the Augment fields that are acquisition nuisances, per channel they act in
+NUISANCES = {"torque": ("current_shift", "current_offset", "load_shift"), "force": ("force_skew", "force_lag")}
+NUISANCE_UNITS = {"current_shift": "s", "current_offset": "A", "load_shift": "s", "force_skew": "s",
+                  "force_lag": "s"}
+#: the Augment fields of the model corrections that act in each channel (force_gain acts in both)
+TORQUE_FIELDS = ("dB", "dG", "dT_fs", "dT_fc", "eff_base", "eff_speed", "stribeck_torque", "stribeck_speed",
+                 "force_gain")
+FORCE_FIELDS = ("stiffness_quad", "clearance", "force_gain")
+
+
+def nuisances_of(aug: Augment) -> dict[str, float]:
+    """The nuisance values of ``aug`` by name."""
+    return {f.name: getattr(aug, f.name) for f in fields(aug) if f.name in NUISANCE_UNITS}
 
 
 def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *,
@@ -169,7 +182,6 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     T_f = (T_fc + dT_fc + (G + dG) F) s + (B + dB) w_m + s T_L (a_0 + a_w |w_m|)
     + s T_S exp(-(|w_m| / w_S)^2), s = sgn(w_m), T_L = l F / (2 pi i_g);
     the eq. 9 part is the twin's :func:`ebm_wear_monitor.twin.friction.sliding_friction`.
-    ``sign`` and ``speed`` default to sgn(w_m) and |w_m|; the residual model passes smoothed ones.
     """
     s = np.sign(w_m) if sign is None else sign
     speed = np.abs(w_m) if speed is None else speed
@@ -177,30 +189,26 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     law = FrictionLaw(static=n.T_fs + aug.dT_fs, coulomb=n.T_fc + aug.dT_fc, viscous=n.B + aug.dB,
                       load_coefficient=n.G + aug.dG)
     T = s * (sliding_friction(law, speed, F, T_L) + T_L * (aug.eff_base + aug.eff_speed * speed))
+    if aug.reverse_dT_fc or aug.reverse_dG:
+        T = T + np.minimum(s, 0.0) * (aug.reverse_dT_fc + aug.reverse_dG * F)
     if aug.stribeck_torque:
         T = T + s * aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2)
     return T
 
 
-def force_from_travel(n: Nominal, aug: Augment, x: np.ndarray) -> np.ndarray:
-    """Clamp force read by the sensor at nut travel ``x`` [m]: 004 eq. 5 with the corrections of ``aug`` [N].
-
-    F_meas = (1 + g) (K_b d + k_2 d^2) + b with d = max(0, x - x_ag - dx); the spring is the twin's
-    :class:`~ebm_wear_monitor.twin.clamp.ClampLaw`, whose stiffening s = 2 k_2 delta_ref / K_b.
-    """
-    spring = ClampLaw(n.K_b, n.x_ag + aug.clearance,
-                      2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / n.K_b**2)
-    return (1.0 + aug.force_gain) * spring.force(x) + aug.force_bias
+def clamp_spring(n: Nominal, aug: Augment) -> ClampLaw:
+    """004 eq. 5 with the clearance and stiffening of ``aug`` (the twin's :class:`ClampLaw`, whose
+    stiffening s = 2 k_2 delta_ref / K_b, so that F = K_b d + k_2 d^2)."""
+    K_b = n.K_b * (1.0 + aug.stiffness_gain)
+    return ClampLaw(K_b, n.x_ag + aug.clearance, 2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / K_b**2)
 
 
-def rest_angle(rec: Recording, seg: Segmentation) -> float:
-    """Rest (released) screw angle [rad]: the median angle of all idle samples (else the first sample).
-
-    One value for the recording: the controller returns to the same rest position every cycle,
-    and a per-cycle estimate would add a noise shared by all blocks of a cycle.
-    """
-    idle = seg.phase == IDLE
-    return float(np.median(rec.angle[idle])) if idle.any() else float(rec.angle[0])
+def first_order_lag(u: np.ndarray, tau: float, dt: float) -> np.ndarray:
+    """Backward-Euler first-order lag y_k = y_(k-1) + dt/(tau + dt) (u_k - y_(k-1)), y_0 = u_0."""
+    if tau <= 0.0:
+        return u
+    a = tau / (tau + dt)
+    return lfilter([1.0 - a], [1.0, -a], u, zi=[a * u[0]])[0]
 
 
 @dataclass(frozen=True)
@@ -214,7 +222,7 @@ class Blocks:
     run: np.ndarray  # id of the phase run the block belongs to (for noise differences)
     moving: np.ndarray  # bool: the screw moves over most of the block
     speed: np.ndarray  # mean |screw speed| [rad/s]
-    force: np.ndarray  # mean recorded axial force [N]
+    force: np.ndarray  # mean tared axial force [N]
 
     @property
     def size(self) -> int:
@@ -237,6 +245,8 @@ def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving:
         starts.append(edges[:-1])
         stops.append(edges[1:])
         runs.append(np.full(nb, r))
+    if not starts:
+        raise InputError("no phase run long enough for the diagnosis")
     start = np.concatenate(starts)
     stop = np.concatenate(stops)
     cum = lambda y: np.concatenate(([0.0], np.cumsum(y, dtype=float)))  # noqa: E731
@@ -249,37 +259,34 @@ def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving:
 class ResidualModel:
     """Torque- and force-channel block residuals of one recording for any :class:`Augment`.
 
-    Construction measures the sample noise, the rest band and the blocks once;
-    :meth:`residuals` is then a few vectorised passes over the samples.
+    Construction takes the conventions (speed from the angle, rest angles, tares) and cuts the
+    blocks once; :meth:`residuals` is then a few vectorised passes over the samples.
     """
 
-    def __init__(self, rec: Recording, seg: Segmentation, nominal: Nominal, block_s: float = 0.02,
-                 smooth_s: float = 0.005) -> None:
-        self.rec, self.seg, self.nominal = rec, seg, nominal
-        w = max(1, round(smooth_s / rec.dt))
-        self.w_m = nominal.i_g * rec.velocity  # motor speed, 004 eq. 3 [rad/s]
-        w_smooth = uniform_filter1d(self.w_m, w, mode="nearest")
-        sigma_w = signal_noise(self.w_m)
-        #: rest band of the motor speed (004 eq. 9 epsilon): 3 sigma of the smoothed speed noise
-        self.eps = max(3.0 * sigma_w / math.sqrt(w), nominal.i_g * 0.5 * seg.eps_velocity)
-        # sliding where both the smoothed and the raw speed leave their 3-sigma rest bands: the smoothing
-        # alone would widen every motion by half its window and charge the Coulomb torque to samples at rest
-        smooth_moving = np.abs(w_smooth) > self.eps
-        raw_moving = np.abs(self.w_m) > max(3.0 * sigma_w, self.eps)
-        self.moving = smooth_moving & raw_moving
-        self.sign = np.sign(w_smooth) * self.moving
-        self.speed = np.abs(w_smooth)
-        #: J_me dw_m/dt from the recorded speed (central differences, whose trapezoid integral over
-        #: a block telescopes to the block's speed change): the inertia torque of samples at rest
+    def __init__(self, rec: Recording, seg: Segmentation, conv: Conventions, nominal: Nominal,
+                 block_s: float = 0.02) -> None:
+        self.rec, self.seg, self.conv, self.nominal = rec, seg, conv, nominal
+        self.w_m = nominal.i_g * conv.speed  # motor speed, 004 eq. 3 [rad/s]
+        #: 1-sigma noise of the motor speed per sample [rad/s]
+        self.sigma_w = nominal.i_g * conv.sigma_angle * np.sqrt(np.minimum(conv.speed_factor, 1e30))
+        #: rest band of the motor speed (004 eq. 9 epsilon): 3 sigma of its noise, at least the phase rule's
+        self.eps = max(3.0 * float(np.median(self.sigma_w)), nominal.i_g * 0.5 * seg.eps_velocity)
+        self.moving = np.abs(self.w_m) > np.maximum(self.eps, 3.0 * self.sigma_w)
+        self.sign = np.sign(self.w_m) * self.moving
+        self.speed = np.abs(self.w_m)
+        #: J_me dw_m/dt from the speed: the inertia torque of samples at rest (stick branch)
         self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
-        self.x = nominal.lead * (rec.angle - rest_angle(rec, seg)) / (2.0 * math.pi)  # nut travel, eq. 4 [m]
-        self.drive_torque = nominal.K_T * rec.current  # motor torque, 004 eq. 7 [N m]
-        self.blocks = make_blocks(seg, rec.velocity, rec.axial_force, self.moving,
-                                  max(2, round(block_s / rec.dt)))
+        rest, tare = conv.per_sample(seg)
+        self.tare = tare
+        self.force = rec.axial_force - tare  # tared force reading [N]
+        self.x = nominal.lead * (rec.angle - rest) / (2.0 * math.pi)  # nut travel, eq. 4 [m]
+        self.blocks = make_blocks(seg, self.w_m, self.force, self.moving, max(2, round(block_s / rec.dt)))
         if self.blocks.size < 4:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
-        self._dt_block = rec.t[self.blocks.stop] - rec.t[self.blocks.start]
-        self._dw_block = self.w_m[self.blocks.stop] - self.w_m[self.blocks.start]
+        b = self.blocks
+        self._dt_block = rec.t[b.stop] - rec.t[b.start]
+        self._dw_block = self.w_m[b.stop] - self.w_m[b.start]
+        self._n_block = (b.stop - b.start + 1).astype(float)
         self.unresolved_torque = self._unresolved_torque()
 
     def _unresolved_torque(self) -> np.ndarray:
@@ -295,22 +302,27 @@ class ResidualModel:
         the errors of consecutive intervals of one transient share a sign, so they
         add linearly within a block.  This enters the block's noise, so blocks whose
         current the sampling does not resolve weigh little instead of being dropped
-        by a threshold.  (The curvature estimate |trapezoid - Simpson| = |d^2 I| dt / 12
-        was tried instead: for a current step sampled at 500 Hz (dt = 2.2 tau_e) the
-        trapezoid's true error is 0.17 |dI| dt against 0.07 |dI| dt estimated, and an
-        independently integrated recording with a fast continuous current loop at 500 Hz
-        then read as a Stribeck effect in 3 of 8 no-effect cases; this bound gives 0.29.)
+        by a threshold.
         """
         rec, b = self.rec, self.blocks
         noise = 3.0 * math.sqrt(2.0) * signal_noise(rec.current)
         jump = np.maximum(np.abs(np.diff(rec.current)) - noise, 0.0)
-        err = np.concatenate(([0.0], np.cumsum(jump * np.diff(rec.t) / (2.0 * math.sqrt(3.0)))))
+        h = np.maximum(np.diff(rec.t), rec.interval("current"))
+        err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
         return self.nominal.K_T * (err[b.stop] - err[b.start]) / self._dt_block
 
     # ----------------------------------------------------------------- model terms per sample
-    def true_force(self, aug: Augment) -> np.ndarray:
-        """Clamp force behind the recorded one when the sensor reads F_meas = (1 + g) F + b [N]."""
-        return (self.rec.axial_force - aug.force_bias) / (1.0 + aug.force_gain)
+    def _read_later(self, y: np.ndarray, shift: float) -> np.ndarray:
+        """``y`` read ``shift`` seconds later (linear interpolation, held at the ends)."""
+        if shift == 0.0:
+            return y
+        t = self.rec.t
+        return np.interp(t + shift, t, y)
+
+    def load_force(self, aug: Augment) -> np.ndarray:
+        """Clamp force behind the reading for the load torque: tared, gain removed, lag and skew undone [N]."""
+        shift = aug.force_skew + aug.force_lag + aug.load_shift
+        return self._read_later(self.force, shift) / (1.0 + aug.force_gain)
 
     def friction(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
         """(friction torque T_f per sample [N m], load torque T_L per sample [N m]): 004 eq. 9 + ``aug``.
@@ -319,24 +331,22 @@ class ResidualModel:
         without its band test, see the module docstring).
         """
         n = self.nominal
-        F = self.true_force(aug)
-        if aug.load_shift:  # quadrature timing of the load (module docstring)
-            F = np.interp(self.rec.t + aug.load_shift, self.rec.t, F)
+        F = self.load_force(aug)
         T_L = n.load_ratio * F
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
-        stuck = self.drive(aug) - T_L - self.inertia_torque  # whatever holds the drive (module doc)
+        stuck = self.drive(aug) - T_L - (1.0 + aug.inertia_gain) * self.inertia_torque  # module docstring
         return np.where(self.moving, kinetic, stuck), T_L
 
     def drive(self, aug: Augment) -> np.ndarray:
-        """Motor torque K_T I [N m] (004 eq. 7), the current read ``aug.current_shift`` seconds later."""
-        if aug.current_shift == 0.0:
-            return self.drive_torque
-        t = self.rec.t
-        return self.nominal.K_T * np.interp(t + aug.current_shift, t, self.rec.current)
+        """Motor torque K_T (I - i_0) [N m] (004 eq. 7), the current read ``aug.current_shift`` later."""
+        K_T = self.nominal.K_T * (1.0 + aug.drive_gain)
+        return K_T * (self._read_later(self.rec.current, aug.current_shift) - aug.current_offset)
 
     def force_model(self, aug: Augment) -> np.ndarray:
-        """Axial force the model predicts from the recorded nut travel, as the sensor would read it [N]."""
-        return force_from_travel(self.nominal, aug, self.x)
+        """Tared force reading the model predicts from the nut travel: (1 + g) L_tau(F(t - s_F)) [N]."""
+        x = self._read_later(self.x, -aug.force_skew)
+        spring = clamp_spring(self.nominal, aug).force(x)
+        return (1.0 + aug.force_gain) * first_order_lag(spring, aug.force_lag, self.rec.dt)
 
     # ----------------------------------------------------------------- block residuals
     def _net_integral(self, aug: Augment) -> np.ndarray:
@@ -345,18 +355,22 @@ class ResidualModel:
         net = self.drive(aug) - T_L - T_f
         return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(self.rec.t))))
 
-    def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
-        """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N]), see the module docstring."""
-        return self._block_residuals(aug, self._net_integral(aug))
-
-    def _block_residuals(self, aug: Augment, C: np.ndarray) -> dict[str, np.ndarray]:
-        """:meth:`residuals` given the net-torque integral ``C`` of ``aug``."""
+    def torque_residual(self, aug: Augment, C: np.ndarray | None = None) -> np.ndarray:
+        """R_T per block [N m] (module docstring); ``C`` the net-torque integral when already known."""
         b = self.blocks
-        torque = (C[b.stop] - C[b.start] - self.nominal.J_me * self._dw_block) / self._dt_block
-        df = self.rec.axial_force - self.force_model(aug)
-        cf = np.concatenate(([0.0], np.cumsum(df)))
-        force = (cf[b.stop + 1] - cf[b.start]) / (b.stop - b.start + 1)
-        return {"torque": torque, "force": force}
+        C = self._net_integral(aug) if C is None else C
+        J = self.nominal.J_me * (1.0 + aug.inertia_gain)
+        return (C[b.stop] - C[b.start] - J * self._dw_block) / self._dt_block
+
+    def force_residual(self, aug: Augment) -> np.ndarray:
+        """R_F per block: mean tared reading minus the model's [N]."""
+        b = self.blocks
+        cf = np.concatenate(([0.0], np.cumsum(self.force - self.force_model(aug))))
+        return (cf[b.stop + 1] - cf[b.start]) / self._n_block
+
+    def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
+        """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N])."""
+        return {"torque": self.torque_residual(aug), "force": self.force_residual(aug)}
 
     def signal_residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
         """Per-block residual of each recorded signal, twin minus recording where the twin predicts it.
@@ -368,14 +382,14 @@ class ResidualModel:
         """
         n, b, t = self.nominal, self.blocks, self.rec.t
         C = self._net_integral(aug)
-        res = self._block_residuals(aug, C)
+        torque = self.torque_residual(aug, C)
         # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
         g = C / n.J_me - self.w_m
         D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))))
         angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.J_me) * self._dt_block
         return {
-            "current": -res["torque"] / n.K_T,
-            "velocity": res["torque"] * self._dt_block / n.J_me / n.i_g,
+            "current": -torque / n.K_T,
+            "velocity": torque * self._dt_block / n.J_me / n.i_g,
             "angle": angle_err / n.i_g,
-            "axial_force": -res["force"],
+            "axial_force": -self.force_residual(aug),
         }

@@ -23,25 +23,28 @@ from __future__ import annotations
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.phases import PHASES
-from ebm_wear_monitor.diagnosis.ranking import Scorer
+from ebm_wear_monitor.diagnosis.ranking import Model, Scorer
 from ebm_wear_monitor.diagnosis.recording import SIGNALS
-from ebm_wear_monitor.diagnosis.residuals import Augment
 
 
 def _rms(z: np.ndarray) -> float | None:
     return float(np.sqrt(np.mean(z * z))) if z.size else None
 
 
-def signal_z(sc: Scorer, aug: Augment) -> dict[str, np.ndarray]:
-    """Noise-normalised per-block residual of each signal (module docstring)."""
+def signal_z(sc: Scorer, m: Model) -> dict[str, np.ndarray]:
+    """Noise-normalised per-block residual of each signal (module docstring), the model's tolerance
+    deviations included (the angle's through its torque)."""
     b, n = sc.model.blocks, sc.model.nominal
-    res = sc.model.signal_residuals(aug)
+    res = sc.model.signal_residuals(m.aug)
     dt = sc.model.rec.t[b.stop] - sc.model.rec.t[b.start]
+    every = np.ones(b.size, bool)
+    tol = sc.D[sc.rows(every)] @ m.t
+    tol_t, tol_f = tol[:b.size], tol[b.size:]
     return {
-        "current": -res["current"] * n.K_T / sc.sigma_torque,
-        "velocity": res["velocity"] * n.J_me * n.i_g / (sc.sigma_torque * dt),
-        "angle": res["angle"] * 2.0 * n.J_me * n.i_g / (sc.sigma_torque * dt * dt),
-        "axial_force": -res["axial_force"] / sc.sigma_force,
+        "current": -res["current"] * n.K_T / sc.sigma_torque + tol_t,
+        "velocity": res["velocity"] * n.J_me * n.i_g / (sc.sigma_torque * dt) + tol_t,
+        "angle": res["angle"] * 2.0 * n.J_me * n.i_g / (sc.sigma_torque * dt * dt) + tol_t,
+        "axial_force": -res["axial_force"] / sc.sigma_force - tol_f,
     }
 
 
@@ -55,14 +58,14 @@ def _bins(values: np.ndarray, z: np.ndarray, unit: str) -> list[dict]:
              "blocks": int((idx == i).sum())} for i in range(edges.size - 1)]
 
 
-def where_table(sc: Scorer, aug: Augment) -> dict:
+def where_table(sc: Scorer, m: Model) -> dict:
     """The ``where`` object of the diagnosis JSON (interface.md section 4, extended)."""
     b = sc.model.blocks
-    z = signal_z(sc, aug)
+    z = signal_z(sc, m)
     table = {p: {s: _rms(z[s][b.phase == i]) for s in SIGNALS} for i, p in enumerate(PHASES)}
     best = max(((v, p, s) for p, row in table.items() for s, v in row.items() if v is not None),
                default=(None, None, None))
-    contact = b.force > sc.model.seg.force_on
+    contact = b.force > sc.model.seg.force_rise
     return {
         "phase": best[1], "signal": best[2], "normalised_rms": best[0], "table": table,
         "by_speed": _bins(b.speed[b.moving], z["current"][b.moving], "rad_s"),

@@ -1,0 +1,194 @@
+"""Acquisition conventions of a recording, estimated from the data: never mistaken for an effect.
+
+A real unit's recording differs from the twin in conventions that are no physical
+effect (issue 10): where the encoder's zero is, where the ECU parks the nut between
+applications, the force reading with the pads open, how the drive estimates the
+speed.  Each is estimated here from the recording itself, with its uncertainty,
+and reported under ``nuisances`` (interface.md section 4); the residual model
+(:mod:`.residuals`) works with the corrected quantities, so none of them can leak
+into an effect.  The timing conventions (force-sensor lag, per-topic stamp skew,
+current sampling, current-sensor offset) are fitted with every model instead,
+see :mod:`.residuals` and :mod:`.ranking`.
+
+**Speed from the angle.**  The screw speed enters the torque balance of 004 eq. 1
+through J_me dw_m/dt, a torque that reaches ~8 N m while the motor accelerates,
+25 times the Coulomb friction.  A recorded velocity that lags by 1 ms (a drive's
+filtered derivative, a moving average, an observer) turns that into a
+friction-sized residual.  The diagnosis therefore differentiates the *angle*
+itself, with its true stamps: a local quadratic regression over a window of about
+``window_s`` (at least 2 samples each side), theta(t) ~ a + b (t - t_i) + c (t - t_i)^2,
+whose slope b at t_i is the speed.  Samples enter a window only from the same
+phase run (:mod:`.phases`), so no window straddles a kink of the motion (pad
+contact, a stop); at the ends of a run the window is one-sided and the quadratic
+term keeps the slope unbiased to first order.  Its noise follows from the
+regression, var(b) = sigma_theta^2 [(X'X)^-1]_bb per sample.  The recorded
+velocity is not used by the model; its lag d and gain g against the angle speed,
+v_rec(t) = g w(t - d), are estimated (least squares over moving samples) and
+reported.
+
+**Released rest angle of each application.**  004 eq. 4-5 count the nut travel x
+from the released (rest) position.  The ECU does not park the nut at the same
+angle every time (position-loop error, overshoot and slow creep back), and the
+encoder's zero is arbitrary.  The travel of application c is counted from
+theta_rest,c, the median angle over the last ``rest_window_s`` of the idle stretch
+that precedes it (after any creep: where that application actually started).
+
+**Force tare of each application.**  With the pads open the true clamp force is
+zero (004 eq. 5, x < x_ag), so the median force reading over the idle stretch before
+application c is that application's tare b_c; the first ``settle_s`` of the
+stretch are left out (sensor lag after the release).  A constant offset of the
+force reading is thus a tare, not the ``force_sensor_bias`` effect, which is left
+with what a tare cannot remove: the gain of the reading.
+
+An application with no idle stretch before it (the first one at the start of the
+recording) takes the stretch after its release.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ebm_wear_monitor.diagnosis.noise import MAD_TO_SIGMA, signal_noise
+from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
+from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
+
+REST_WINDOW_S = 0.02  # idle time before an application over which its rest angle is taken [s]
+SETTLE_S = 0.01  # idle time after a release left out of the tare [s]
+VELOCITY_LAG_RANGE_S = 0.02  # the recorded velocity's lag is searched within +-this [s]
+
+
+def phase_runs(seg: Segmentation) -> np.ndarray:
+    """Id of the run of equal (cycle, phase) each sample belongs to."""
+    key = seg.cycle.astype(np.int64) * 8 + (seg.phase.astype(np.int64) + 1)
+    return np.cumsum(np.concatenate(([0], (key[1:] != key[:-1]).astype(np.int64))))
+
+
+def _idle_before(seg: Segmentation) -> list[tuple[int, int]]:
+    """Per application c, the sample range [a, b) of the idle stretch just before it (or after it)."""
+    idle = seg.phase == IDLE
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], idle.astype(np.int8), [0]))))
+    stretches = list(zip(edges[0::2], edges[1::2], strict=True))  # [a, b) of every idle stretch
+    out = []
+    for c in range(seg.n_cycles):
+        active = np.flatnonzero((seg.cycle == c) & ~idle)
+        first, last = (int(active[0]), int(active[-1])) if active.size else (0, 0)
+        before = [s for s in stretches if s[1] == first]
+        after = [s for s in stretches if s[0] == last + 1]
+        out.append(before[0] if before else after[0] if after else (0, 0))
+    return out
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """A convention estimated from the data: value, standard deviation, SI unit."""
+
+    value: float
+    std: float
+    unit: str
+
+    def as_dict(self) -> dict:
+        return {"value": self.value, "std": self.std, "unit": self.unit}
+
+
+@dataclass(frozen=True)
+class Conventions:
+    """What the recording's conventions are (module docstring), per sample where the model needs it."""
+
+    speed: np.ndarray  # screw speed from the angle, per phase run [rad/s]
+    speed_factor: np.ndarray  # var(speed) = speed_factor * sigma_angle^2 [1/s^2]
+    sigma_angle: float  # white angle noise while moving [rad]
+    rest_angle: np.ndarray  # released rest angle of each application [rad]
+    rest_angle_std: np.ndarray  # its standard deviation [rad]
+    tare: np.ndarray  # force reading at rest before each application [N]
+    tare_std: np.ndarray  # its standard deviation [N]
+    estimates: dict[str, Estimate]  # the reported nuisances
+
+    def per_sample(self, seg: Segmentation) -> tuple[np.ndarray, np.ndarray]:
+        """(rest angle [rad], tare [N]) of the application each sample belongs to."""
+        return self.rest_angle[seg.cycle], self.tare[seg.cycle]
+
+
+def _median_std(x: np.ndarray) -> tuple[float, float]:
+    """Median of a sample and the standard deviation of that median (1.25 sigma / sqrt(n))."""
+    if x.size == 0:
+        return float("nan"), float("nan")
+    sigma = MAD_TO_SIGMA * float(np.median(np.abs(x - np.median(x))))
+    return float(np.median(x)), 1.2533 * sigma / np.sqrt(x.size)
+
+
+def _fill(values: np.ndarray) -> np.ndarray:
+    """Replace NaN entries by the nearest finite one (all NaN: zeros)."""
+    ok = np.isfinite(values)
+    if not ok.any():
+        return np.zeros_like(values)
+    idx = np.flatnonzero(ok)
+    nearest = idx[np.clip(np.searchsorted(idx, np.arange(values.size)), 0, idx.size - 1)]
+    return np.where(ok, values, values[nearest])
+
+
+def _velocity_convention(rec: Recording, speed: np.ndarray, moving: np.ndarray) -> dict[str, Estimate]:
+    """Lag d [s] and gain g [-] of the recorded velocity against the angle speed, v_rec(t) = g w(t - d)."""
+    t = rec.t
+    if moving.sum() < 20:
+        return {}
+    tm, vm = t[moving], rec.velocity[moving]
+    lags = np.arange(-VELOCITY_LAG_RANGE_S, VELOCITY_LAG_RANGE_S + 1e-12, 0.25 * rec.dt)
+
+    def fit(d: float) -> tuple[float, float]:
+        w = np.interp(tm - d, t, speed)
+        ww = float(np.dot(w, w))
+        g = float(np.dot(w, vm)) / ww if ww > 0.0 else 0.0
+        return g, float(np.sum((vm - g * w) ** 2))
+
+    sse = np.array([fit(d)[1] for d in lags])
+    k = int(np.argmin(sse))
+    d = float(lags[k])
+    if 0 < k < lags.size - 1:  # parabolic refinement
+        den = sse[k - 1] - 2.0 * sse[k] + sse[k + 1]
+        if den > 0.0:
+            d += 0.5 * (sse[k - 1] - sse[k + 1]) / den * (lags[1] - lags[0])
+    g, s = fit(d)
+    w = np.interp(tm - d, t, speed)
+    dw = np.gradient(w, tm)
+    var_r = s / max(vm.size - 2, 1)
+    return {"velocity_lag_s": Estimate(d, float(np.sqrt(var_r / max(g * g * np.dot(dw, dw), 1e-300))), "s"),
+            "velocity_gain": Estimate(g, float(np.sqrt(var_r / max(np.dot(w, w), 1e-300))), "-")}
+
+
+def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WINDOW_S) -> Conventions:
+    """Estimate every convention of the module docstring from ``rec`` and its phases ``seg``."""
+    speed, factor = angle_speed(rec, phase_runs(seg), window_s)
+    sigma_w = signal_noise(speed)
+    moving = np.abs(speed) > 5.0 * max(sigma_w, 1e-12)
+    d2 = np.diff(rec.angle, 2)[moving[1:-1]]
+    sigma_angle = MAD_TO_SIGMA * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0) if d2.size \
+        else 0.0
+    rest_n = max(5, round(REST_WINDOW_S / rec.dt))
+    settle = max(3, round(SETTLE_S / rec.dt))
+    rest, rest_sd, tare, tare_sd = (np.full(seg.n_cycles, np.nan) for _ in range(4))
+    for c, (a, b) in enumerate(_idle_before(seg)):
+        if b <= a:
+            continue
+        rest[c], rest_sd[c] = _median_std(rec.angle[max(a, b - rest_n):b])
+        tare[c], tare_sd[c] = _median_std(rec.axial_force[a + settle:b] if b - a > 2 * settle
+                                          else rec.axial_force[a:b])
+    rest, tare = _fill(rest), _fill(tare)
+    # a constant quantised angle is not averaged by the median: keep the noise of one sample / sqrt(12)
+    rest_sd = np.hypot(_fill(rest_sd), sigma_angle / np.sqrt(12.0))
+    tare_sd = _fill(tare_sd)
+    n = max(seg.n_cycles, 1)
+    spread = lambda x: float(np.std(x, ddof=1)) if x.size > 1 else 0.0  # noqa: E731
+    est = {
+        "rest_angle_rad": Estimate(float(np.mean(rest)), spread(rest) / np.sqrt(n), "rad"),
+        "rest_angle_spread_rad": Estimate(spread(rest), 0.0, "rad"),
+        "force_tare_N": Estimate(float(np.mean(tare)), spread(tare) / np.sqrt(n), "N"),
+        "force_tare_spread_N": Estimate(spread(tare), 0.0, "N"),
+        "angle_noise_rad": Estimate(sigma_angle, 0.0, "rad"),
+    }
+    est |= _velocity_convention(rec, speed, moving)
+    for name in ("angle", "velocity", "axial_force", "current"):
+        est[f"{name}_rate_Hz"] = Estimate(1.0 / rec.interval(name), 0.0, "Hz")
+    return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, est)

@@ -1,0 +1,103 @@
+"""Model-tolerance budget: how far a healthy unit may differ from its unit file, and the floors it sets.
+
+The nominal twin is built from the unit file (004 Table 1 and the calculated friction
+of 004 Table 3).  Even a unit with no unmodelled effect differs from it within the
+bounds below; the diagnosis must not call such a difference an effect.
+
+====================================  =========  ==============================================================
+quantity                              bound      reason
+====================================  =========  ==============================================================
+K_T times the current-sensor gain     +-2 %      NdFeB torque constant -0.12 %/K over +-10 K (1.2 %) and a
+                                                 1 % current-sensor gain, added in quadrature (1.6 %)
+equivalent inertia J_me (004 eq. 2)   +-2 %      rotor and gear inertia of a datasheet, grease in the gear
+friction direction asymmetry          004 T. 3   the twin uses the apply-direction law both ways; 004 Table 3
+                                                 computes T_fc 7.43 % and G 2.93 % lower in reverse
+viscous coefficient B                 +-5 %      lubricant viscosity falls ~2.5 %/K; the twin is not told the
+                                                 temperature to better than +-2 K
+clamp stiffness K_b (004 eq. 6)       +-3 %      pad modulus with temperature and pad wear
+brake clearance x_ag                  +-5 um     thermal expansion of ~0.1 m of caliper steel over +-4 K
+                                                 (12e-6 /K), the ECU's release-position repeatability
+load-cell gain                        +-1 %      a class-0.5 load cell with its amplifier
+====================================  =========  ==============================================================
+
+**The twin within its tolerance.**  Every model the diagnosis fits, the nominal one
+included, may move each of these quantities within its bound (bounded least squares,
+:mod:`.ranking`); an effect is fitted *on top of* that, so a deviation a healthy unit
+may have is never charged to an effect, however precisely the data show it (the
+inertia alone, +-2 %, is worth 0.16 N m while the motor accelerates: left free of
+the budget it would read as twice the viscous coefficient).  An effect's own
+quantity is not also a tolerance when that effect is fitted (``OWN``).  Each
+tolerance's change of the normalised residual is linear in the deviation, so it
+enters the fits as a fixed response column (:func:`responses`), not a re-evaluation.
+
+**Detectability floors** (issue 10, practical significance).  An effect is *material*
+only when its fitted size (:mod:`.catalog`, in the unit people judge it by) exceeds
+the deviation the budget allows in that same quantity:
+
+==========================  ========================  ==============================================
+effect                      floor                     from the budget
+==========================  ========================  ==============================================
+viscous_friction            5 % of B                  B +-5 %
+load_friction               3 % of G                  direction asymmetry of G, 2.93 %
+efficiency_variation        2 % of the load torque    K_T x current gain +-2 % acts on T_L alike
+preload_change              4 % of T_fc               direction asymmetry of T_fc, 7.43 %, averaged
+                                                      over both directions
+stribeck                    5 % of T_fc at zero speed half the twin's own static excess
+                                                      (T_fs - T_fc = 10.7 % of T_fc)
+stiffness_nonlinearity      3 % of K_b                K_b +-3 %
+clearance_growth            5 um                      x_ag +-5 um
+force_sensor_bias           1 % gain                  load-cell gain +-1 %
+==========================  ========================  ==============================================
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """One entry of the budget: a healthy unit's deviation at the bound, and why."""
+
+    name: str
+    deviation: Callable[[Nominal], Augment]  # the model change at the bound
+    reason: str
+
+
+BUDGET: tuple[Tolerance, ...] = (
+    Tolerance("torque_constant", lambda n: Augment(drive_gain=0.02),
+              "K_T x current-sensor gain +-2 %: -0.12 %/K over +-10 K and a 1 % current-sensor gain"),
+    Tolerance("inertia", lambda n: Augment(inertia_gain=0.02), "J_me +-2 %: datasheet rotor and gear inertia"),
+    Tolerance("direction_asymmetry", lambda n: Augment(reverse_dT_fc=-0.0743 * n.T_fc, reverse_dG=-0.0293 * n.G),
+              "004 Table 3: T_fc 7.43 % and G 2.93 % lower in reverse"),
+    Tolerance("viscous", lambda n: Augment(dB=0.05 * n.B), "B +-5 %: +-2 K of lubricant temperature"),
+    Tolerance("stiffness", lambda n: Augment(stiffness_gain=0.03), "K_b +-3 %: pad modulus"),
+    Tolerance("clearance", lambda n: Augment(clearance=5e-6), "x_ag +-5 um: thermal, release position"),
+    Tolerance("load_cell", lambda n: Augment(force_gain=0.01), "load-cell gain +-1 %: class 0.5"),
+)
+
+#: effect -> the budget entry in its own quantity (not a tolerance while that effect is fitted)
+OWN = {"viscous_friction": "viscous", "clearance_growth": "clearance", "force_sensor_bias": "load_cell"}
+
+#: effect -> detectability floor of its size (module docstring; units as :mod:`.catalog`'s sizes)
+FLOORS = {"viscous_friction": 0.05, "load_friction": 0.03, "efficiency_variation": 0.02,
+          "preload_change": 0.04, "stribeck": 0.05, "stiffness_nonlinearity": 0.03,
+          "clearance_growth": 5e-6, "force_sensor_bias": 0.01}
+
+
+def apply(base: Augment, deviation: Augment) -> Augment:
+    """``base`` (a fitted model) with the non-zero fields of ``deviation`` added."""
+    zero = Augment()
+    return dataclasses.replace(base, **{f: getattr(base, f) + getattr(deviation, f)
+                                        for f in Augment.__dataclass_fields__
+                                        if getattr(deviation, f) != getattr(zero, f)})
+
+
+def free(effect_names: list[str]) -> list[bool]:
+    """Which budget entries are tolerances while the named effects are fitted."""
+    own = {OWN[e] for e in effect_names if e in OWN}
+    return [t.name not in own for t in BUDGET]
