@@ -30,15 +30,21 @@ reported.
 from the released (rest) position.  The ECU does not park the nut at the same
 angle every time (position-loop error, overshoot and slow creep back), and the
 encoder's zero is arbitrary.  The travel of application c is counted from
-theta_rest,c, the median angle over the last ``rest_window_s`` of the idle stretch
-that precedes it (after any creep: where that application actually started).
+theta_rest,c, the median angle over the last ``rest_window_s`` before its first active
+sample (the still ones among them; after any creep: where that application actually started).
 
 **Force tare of each application.**  With the pads open the true clamp force is
-zero (004 eq. 5, x < x_ag), so the median force reading over the idle stretch before
+zero (004 eq. 5, x < x_ag), so the median force reading over the last idle stretch before
 application c is that application's tare b_c; the first ``settle_s`` of the
 stretch are left out (sensor lag after the release).  A constant offset of the
 force reading is thus a tare, not the ``force_sensor_bias`` effect, which is left
-with what a tare cannot remove: the gain of the reading.
+with what a tare cannot remove: the gain of the reading.  A release that stops with the
+pads still touching leaves a clamp force over the next idle stretch; a tare does not jump
+between applications, so each application's tare is the median of the idle readings of
+the applications around it (``TARE_SPAN`` each side), and an application whose own idle
+reading exceeds that by more than ``max(5 sigma, 20 % of the contact threshold)`` started
+*not released*: the nut travel of 004 eq. 4 has no released origin there, and the force
+channel leaves that application out (:attr:`Conventions.released`).
 
 An application with no idle stretch before it (the first one at the start of the
 recording) takes the stretch after its release.
@@ -57,6 +63,7 @@ from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
 
 REST_WINDOW_S = 0.02  # idle time before an application over which its rest angle is taken [s]
 SETTLE_S = 0.01  # idle time after a release left out of the tare [s]
+TARE_SPAN = 3  # applications each side over which the tare is taken [-]
 VELOCITY_LAG_RANGE_S = 0.02  # the recorded velocity's lag is searched within +-this [s]
 
 
@@ -66,18 +73,21 @@ def phase_runs(seg: Segmentation) -> np.ndarray:
     return np.cumsum(np.concatenate(([0], (key[1:] != key[:-1]).astype(np.int64))))
 
 
-def _idle_before(seg: Segmentation) -> list[tuple[int, int]]:
-    """Per application c, the sample range [a, b) of the idle stretch just before it (or after it)."""
+def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
+    """Per application c: (first, a, b) with ``first`` its first active sample and [a, b) the last idle
+    stretch before it (after the previous application started), else the first one after it."""
     idle = seg.phase == IDLE
     edges = np.flatnonzero(np.diff(np.concatenate(([0], idle.astype(np.int8), [0]))))
     stretches = list(zip(edges[0::2], edges[1::2], strict=True))  # [a, b) of every idle stretch
-    out = []
+    out, previous = [], 0
     for c in range(seg.n_cycles):
         active = np.flatnonzero((seg.cycle == c) & ~idle)
-        first, last = (int(active[0]), int(active[-1])) if active.size else (0, 0)
-        before = [s for s in stretches if s[1] == first]
-        after = [s for s in stretches if s[0] == last + 1]
-        out.append(before[0] if before else after[0] if after else (0, 0))
+        first = int(active[0]) if active.size else 0
+        before = [s for s in stretches if previous <= s[0] and s[1] <= first and s[1] > s[0]]
+        after = [s for s in stretches if s[0] > first]
+        a, b = before[-1] if before else after[0] if after else (first, first)
+        out.append((first, int(a), int(b)))
+        previous = first
     return out
 
 
@@ -104,6 +114,7 @@ class Conventions:
     rest_angle_std: np.ndarray  # its standard deviation [rad]
     tare: np.ndarray  # force reading at rest before each application [N]
     tare_std: np.ndarray  # its standard deviation [N]
+    released: np.ndarray  # bool per application: the pads were open before it (module docstring)
     estimates: dict[str, Estimate]  # the reported nuisances
 
     def per_sample(self, seg: Segmentation) -> tuple[np.ndarray, np.ndarray]:
@@ -169,13 +180,20 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
     rest_n = max(5, round(REST_WINDOW_S / rec.dt))
     settle = max(3, round(SETTLE_S / rec.dt))
     rest, rest_sd, tare, tare_sd = (np.full(seg.n_cycles, np.nan) for _ in range(4))
-    for c, (a, b) in enumerate(_idle_before(seg)):
-        if b <= a:
-            continue
-        rest[c], rest_sd[c] = _median_std(rec.angle[max(a, b - rest_n):b])
-        tare[c], tare_sd[c] = _median_std(rec.axial_force[a + settle:b] if b - a > 2 * settle
-                                          else rec.axial_force[a:b])
-    rest, tare = _fill(rest), _fill(tare)
+    still = np.abs(speed) <= 5.0 * max(sigma_w, 1e-12)
+    for c, (first, a, b) in enumerate(_before_each(seg)):
+        window = np.arange(max(first - rest_n, 0), first)
+        window = window[still[window]] if still[window].any() else window
+        if window.size:
+            rest[c], rest_sd[c] = _median_std(rec.angle[window])
+        if b > a:
+            tare[c], tare_sd[c] = _median_std(rec.axial_force[a + settle:b] if b - a > 2 * settle
+                                              else rec.axial_force[a:b])
+    rest, idle_force = _fill(rest), _fill(tare)
+    tare = np.array([np.median(idle_force[max(c - TARE_SPAN, 0):c + TARE_SPAN + 1])
+                     for c in range(idle_force.size)])
+    excess = np.maximum(5.0 * _fill(tare_sd), 0.2 * seg.force_rise)
+    released = idle_force - tare <= excess
     # a constant quantised angle is not averaged by the median: keep the noise of one sample / sqrt(12)
     rest_sd = np.hypot(_fill(rest_sd), sigma_angle / np.sqrt(12.0))
     tare_sd = _fill(tare_sd)
@@ -186,9 +204,10 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
         "rest_angle_spread_rad": Estimate(spread(rest), 0.0, "rad"),
         "force_tare_N": Estimate(float(np.mean(tare)), spread(tare) / np.sqrt(n), "N"),
         "force_tare_spread_N": Estimate(spread(tare), 0.0, "N"),
+        "applications_not_released": Estimate(float(np.sum(~released)), 0.0, "-"),
         "angle_noise_rad": Estimate(sigma_angle, 0.0, "rad"),
     }
     est |= _velocity_convention(rec, speed, moving)
     for name in ("angle", "velocity", "axial_force", "current"):
         est[f"{name}_rate_Hz"] = Estimate(1.0 / rec.interval(name), 0.0, "Hz")
-    return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, est)
+    return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, released, est)

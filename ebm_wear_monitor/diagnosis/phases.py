@@ -24,8 +24,14 @@ the drive estimates it:
 * runs shorter than ``min_run_s`` (20 ms) are merged into the run before them
   (controller dither in force maintenance would otherwise flicker the label).
 
+A forward run without contact that does not end in force generation (the ECU returning
+from an overshoot, repositioning) is idle time, not clearance elimination.
 A new brake cycle starts at the first forward run (``clearance_elimination``
-or ``force_generation``) after a ``force_release`` run.  The idle samples before a
+or ``force_generation``) after a ``force_release`` run that took the force below half
+of the cycle's peak: a controller that backs off a little and re-applies (trimming the
+held force) is still in the same application, a release that stops with the pads still
+touching before the next application is not (:mod:`.conventions` flags that next
+application as not released).  The idle samples before a
 cycle give its released rest angle and force tare (:mod:`.conventions`).
 
 Why not the monitor's segmentation (:mod:`ebm_wear_monitor.monitor.segmentation`)?
@@ -104,16 +110,28 @@ def segment(rec: Recording, speed: np.ndarray | None = None, smooth_s: float = 0
             codes[i] = codes[i - 1]
     phase = np.repeat(codes, lengths)
 
-    # cycle boundaries: a forward run after a release run
+    # a forward move that stops short of contact (the ECU returning from an overshoot, repositioning)
+    # is no clearance elimination: it belongs to the idle time between applications
+    starts, lengths = _runs(phase)
+    codes = phase[starts].copy()
+    follows = np.append(codes[1:], IDLE)
+    codes[(codes == CLEARANCE) & (follows != GENERATION)] = IDLE
+    phase = np.repeat(codes, lengths)
+
+    # cycle boundaries: a forward run after a release that took the force below half its peak
     starts, lengths = _runs(phase)
     codes = phase[starts]
+    load = f - f0
+    run_max = np.maximum.reduceat(load, starts)
+    run_min = np.minimum.reduceat(load, starts)
     new_cycle = np.zeros(codes.size, dtype=bool)
-    released = False
+    peak, released = 0.0, False
     for i, c in enumerate(codes):
-        if c == RELEASE:
-            released = True
-        elif c in (CLEARANCE, GENERATION) and released:
+        if c in (CLEARANCE, GENERATION) and released:
             new_cycle[i] = True
-            released = False
+            peak, released = 0.0, False
+        peak = max(peak, float(run_max[i]))
+        if c == RELEASE and run_min[i] < max(0.5 * peak, f_on):
+            released = True
     cycle = np.repeat(np.cumsum(new_cycle), lengths).astype(np.int32)
     return Segmentation(phase, cycle, float(eps_v), float(f0 + f_on), float(f_on))

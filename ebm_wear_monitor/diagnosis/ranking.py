@@ -192,7 +192,8 @@ class Scorer:
         a second pass the best-ranked effect, whose residual carries less model error) scatters
         more than that in its quietest phase (coloured sensor noise).  The torque noise adds,
         in quadrature, the uncertainty of the current integral where the sampling does not
-        resolve the electrical transient.
+        resolve the electrical transient and of the friction where stick and slip cannot be
+        told apart (:mod:`.residuals`).
         """
         b = model.blocks
         s_t, s_f = block_noise(model)
@@ -200,7 +201,8 @@ class Scorer:
         s_f = np.maximum(s_f, 1e-3)
         split = split_by_cycle(b.cycle, b.force)
         specs = nuisance_specs(model)
-        pre = cls(model, split, np.hypot(s_t, model.unresolved_torque), s_f, specs)
+        extra_t = np.hypot(model.unresolved_torque, model.ambiguous_torque)
+        pre = cls(model, split, np.hypot(s_t, extra_t), s_f, specs)
         pre = dataclasses.replace(pre, D=pre.responses(NOMINAL))
         pre = dataclasses.replace(pre, base=fit_base(pre)[0])
         reference = pre.base.aug if reference is None else reference
@@ -208,30 +210,42 @@ class Scorer:
         c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
         c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
         s_f = np.hypot(c_f * s_f, contact_spread(model, r["force"], c_f * s_f) * (b.force > model.seg.force_rise))
-        sc = cls(model, split, np.hypot(c_t * s_t, model.unresolved_torque), s_f, specs)
+        sc = cls(model, split, np.hypot(c_t * s_t, extra_t), s_f, specs)
         sc = dataclasses.replace(sc, D=sc.responses(pre.base.aug))
         base, std = fit_base(sc, pre.base)
         return dataclasses.replace(sc, base=base, base_std=std)
 
     def responses(self, aug: Augment) -> np.ndarray:
         """dz/dt of every budget entry at ``aug``, all rows (torque then force, every block)."""
-        every = np.ones(self.model.blocks.size, bool)
-        z0 = self.z_raw(aug, every)
-        return np.stack([self.z_raw(tolerance.apply(aug, t.deviation(self.model.nominal)), every) - z0
+        z0 = self.z_all(aug)
+        return np.stack([self.z_all(tolerance.apply(aug, t.deviation(self.model.nominal))) - z0
                          for t in tolerance.BUDGET], axis=1)
+
+    def z_all(self, aug: Augment) -> np.ndarray:
+        """Normalised residuals of every block, torque then force, none left out (the layout of ``D``)."""
+        r = self.model.residuals(aug)
+        return np.concatenate((r["torque"] / self.sigma_torque, r["force"] / self.sigma_force))
+
+    def valid(self, mask: np.ndarray, channel: str) -> np.ndarray:
+        """``mask`` restricted to the blocks that carry a row in ``channel`` (force: released applications)."""
+        if channel == "force":
+            return mask & self.model.conv.released[self.model.blocks.cycle]
+        return mask
 
     def rows(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Indices into all rows (torque then force, every block) of the masked blocks of ``channels``."""
-        n, idx = self.model.blocks.size, np.flatnonzero(mask)
-        return np.concatenate([idx + CHANNELS.index(ch) * n for ch in channels])
+        n = self.model.blocks.size
+        return np.concatenate([np.flatnonzero(self.valid(mask, ch)) + CHANNELS.index(ch) * n for ch in channels])
 
     def z_raw(self, aug: Augment, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Normalised residuals of the masked blocks, torque rows then force rows (of ``channels``)."""
         parts = []
         if "torque" in channels:
-            parts.append(self.model.torque_residual(aug)[mask] / self.sigma_torque[mask])
+            k = self.valid(mask, "torque")
+            parts.append(self.model.torque_residual(aug)[k] / self.sigma_torque[k])
         if "force" in channels:
-            parts.append(self.model.force_residual(aug)[mask] / self.sigma_force[mask])
+            k = self.valid(mask, "force")
+            parts.append(self.model.force_residual(aug)[k] / self.sigma_force[k])
         return np.concatenate(parts)
 
     def z(self, m: Model, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
@@ -239,13 +253,13 @@ class Scorer:
         return self.z_raw(m.aug, mask, channels) + self.D[self.rows(mask, channels)] @ m.t
 
     def row_cycles(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
-        c = self.model.blocks.cycle[mask]
-        return np.concatenate([c] * len(channels))
+        c = self.model.blocks.cycle
+        return np.concatenate([c[self.valid(mask, ch)] for ch in channels])
 
     def gap_mask(self) -> np.ndarray:
         """Which held-out rows (torque then force) the gap uses: torque rows of blocks at rest are left out."""
         m = self.split.heldout
-        return np.concatenate((self.model.blocks.moving[m], np.ones(int(m.sum()), bool)))
+        return np.concatenate((self.model.blocks.moving[m], np.ones(int(self.valid(m, "force").sum()), bool)))
 
     def cycle_sse(self, m: Model) -> np.ndarray:
         """Sum of z^2 per held-out cycle."""

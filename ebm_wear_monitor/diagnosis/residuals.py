@@ -288,6 +288,7 @@ class ResidualModel:
         self._dw_block = self.w_m[b.stop] - self.w_m[b.start]
         self._n_block = (b.stop - b.start + 1).astype(float)
         self.unresolved_torque = self._unresolved_torque()
+        self.ambiguous_torque = self._ambiguous_torque()
 
     def _unresolved_torque(self) -> np.ndarray:
         """Per-block uncertainty of the motor-torque integral from current changes between samples [N m].
@@ -310,6 +311,32 @@ class ResidualModel:
         h = np.maximum(np.diff(rec.t), rec.interval("current"))
         err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
         return self.nominal.K_T * (err[b.stop] - err[b.start]) / self._dt_block
+
+    def _ambiguous_torque(self) -> np.ndarray:
+        """Per-block uncertainty of the friction where stick and slip cannot be told apart [N m].
+
+        004 eq. 9 switches between sliding friction (T_fc + G F) sgn(w_m) + B w_m and the stick
+        branch, where the friction is anything within +-(T_fs + G F).  At low speed a drive
+        creeps by stick-slip (a position loop pushing against breakaway), faster than any speed
+        estimate resolves: a block that moves on average may hold intervals in which the screw
+        did not move at all.  Such an interval is one whose angle change cannot be told from
+        standstill, |d theta| <= max(3 sqrt(2) sigma_theta, the encoder's quantum); in it the
+        friction is only known to lie in the stick band, uniformly: standard deviation
+        (T_fs + G F) / sqrt(3).  The errors of one creep share a sign, so a block's uncertainty
+        is the share of such intervals among its moving ones times that standard deviation.
+        Blocks that slide cleanly (no such interval) keep their full weight.
+        """
+        rec, b, n = self.rec, self.blocks, self.nominal
+        dtheta = np.abs(np.diff(rec.angle))
+        steps = dtheta[dtheta > 1e-12 * max(1.0, float(np.max(np.abs(rec.angle))))]
+        quantum = float(np.min(steps)) if steps.size else 0.0
+        still = dtheta <= max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * quantum)
+        moving_interval = self.moving[1:] | self.moving[:-1]
+        amb = np.concatenate(([0.0], np.cumsum(still & moving_interval)))
+        mov = np.concatenate(([0.0], np.cumsum(moving_interval)))
+        share = (amb[b.stop] - amb[b.start]) / np.maximum(mov[b.stop] - mov[b.start], 1.0)
+        band = (n.T_fs + n.G * np.abs(b.force)) / math.sqrt(3.0)
+        return share * band * b.moving
 
     # ----------------------------------------------------------------- model terms per sample
     def _read_later(self, y: np.ndarray, shift: float) -> np.ndarray:

@@ -37,8 +37,7 @@ def signal_z(sc: Scorer, m: Model) -> dict[str, np.ndarray]:
     b, n = sc.model.blocks, sc.model.nominal
     res = sc.model.signal_residuals(m.aug)
     dt = sc.model.rec.t[b.stop] - sc.model.rec.t[b.start]
-    every = np.ones(b.size, bool)
-    tol = sc.D[sc.rows(every)] @ m.t
+    tol = sc.D @ m.t  # every block, torque then force
     tol_t, tol_f = tol[:b.size], tol[b.size:]
     return {
         "current": -res["current"] * n.K_T / sc.sigma_torque + tol_t,
