@@ -44,7 +44,8 @@ between applications, so each application's tare is the median of the idle readi
 the applications around it (``TARE_SPAN`` each side), and an application whose own idle
 reading exceeds that by more than ``max(5 sigma, 20 % of the contact threshold)`` started
 *not released*: the nut travel of 004 eq. 4 has no released origin there, and the force
-channel leaves that application out (:attr:`Conventions.released`).
+channel leaves that application out (:attr:`Conventions.released`), as it does an application
+that starts with the recording (no rest seen before it).
 
 An application with no idle stretch before it (the first one at the start of the
 recording) takes the stretch after its release.
@@ -181,8 +182,10 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
     settle = max(3, round(SETTLE_S / rec.dt))
     rest, rest_sd, tare, tare_sd = (np.full(seg.n_cycles, np.nan) for _ in range(4))
     still = np.abs(speed) <= 5.0 * max(sigma_w, 1e-12)
+    seen_rest = np.zeros(seg.n_cycles, bool)
     for c, (first, a, b) in enumerate(_before_each(seg)):
         window = np.arange(max(first - rest_n, 0), first)
+        seen_rest[c] = window.size == rest_n and np.mean(seg.phase[window] == IDLE) >= 0.5
         window = window[still[window]] if still[window].any() else window
         if window.size:
             rest[c], rest_sd[c] = _median_std(rec.angle[window])
@@ -193,7 +196,7 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
     tare = np.array([np.median(idle_force[max(c - TARE_SPAN, 0):c + TARE_SPAN + 1])
                      for c in range(idle_force.size)])
     excess = np.maximum(5.0 * _fill(tare_sd), 0.2 * seg.force_rise)
-    released = idle_force - tare <= excess
+    released = (idle_force - tare <= excess) & seen_rest
     # a constant quantised angle is not averaged by the median: keep the noise of one sample / sqrt(12)
     rest_sd = np.hypot(_fill(rest_sd), sigma_angle / np.sqrt(12.0))
     tare_sd = _fill(tare_sd)

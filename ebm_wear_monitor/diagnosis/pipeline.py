@@ -28,7 +28,6 @@ from ebm_wear_monitor.diagnosis.conventions import estimate_conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import segment
 from ebm_wear_monitor.diagnosis.ranking import (
-    GAP_MATERIAL,
     METRIC,
     SHRINK_NEEDED,
     EffectFit,
@@ -54,12 +53,16 @@ def shrink(gap_before: float, gap_after: float) -> float:
     return float(1.0 - gap_after / gap_before) if gap_before > 0.0 else 0.0
 
 
+def residual_model(rec: Recording, nominal: Nominal, block_s: float = 0.02) -> ResidualModel:
+    """Steps 1-3 of the module docstring: phases, conventions, and the residual model of ``rec``."""
+    seg = segment(rec)
+    return ResidualModel(rec, seg, estimate_conventions(rec, seg), nominal, block_s=block_s)
+
+
 def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Scorer, Ranking]:
     """Segment, estimate conventions, build residuals and rank the catalog (:func:`diagnose_recording`)."""
-    seg = segment(rec)
-    conv = estimate_conventions(rec, seg)
     nominal = Nominal.from_unit(unit)
-    model = ResidualModel(rec, seg, conv, nominal, block_s=block_s)
+    model = residual_model(rec, nominal, block_s)
     moving = model.speed[model.moving]
     lo, hi = (np.percentile(moving, [5.0, 95.0]) if moving.size else (0.0, 1.0))
     catalog = build_catalog(nominal, max_speed=float(np.percentile(model.speed, 99.5)),
@@ -159,7 +162,7 @@ def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[dict, S
         "gap_after": gap_after,
         "shrink": shrink(ranking.gap_before, gap_after),
         "shrink_needed": SHRINK_NEEDED,
-        "gap_material": GAP_MATERIAL,
+        "unexplained_share": ranking.unexplained_share,
         "metric": METRIC,
         "significance_level": ranking.alpha,
         "nuisances": nuisance_report(sc),

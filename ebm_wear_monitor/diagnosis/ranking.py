@@ -54,9 +54,11 @@ addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)) 
 explains more on its own.
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
-when the nominal gap is *material*, above what the tolerance budget alone can
-produce (:func:`.tolerance.gap_tolerance`), and ``none`` when it is not: the twin
-explains the data within its tolerance.
+when the gap of the twin within its tolerance is *material* and no effect or pair
+closes half of it, and ``none`` when it is not material: the twin explains the data
+within its tolerance.  Material means in physical units (:meth:`Scorer.unexplained_share`):
+the RMS model error beyond the noise exceeds, as a share of what the channel predicts,
+the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
 
 **Parsimony.**  When an effect with fewer parameters is tied with the best-scoring
 one it is ranked first: ``efficiency_variation`` nests ``load_friction`` and must
@@ -95,9 +97,6 @@ from ebm_wear_monitor.errors import InputError
 ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
-#: held-out gap of the twin within its tolerance above which the gap is material: the RMS model error
-#: is as large as the block noise, so it shows in single blocks
-GAP_MATERIAL = 1.0
 METRIC = "excess_rms_over_noise"
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
 FORCE_LAG_S = 5e-3  # largest first-order lag of the force reading considered [s]
@@ -277,6 +276,24 @@ class Scorer:
         ms = float(np.mean(self.gap_rows(m) ** 2))
         return float(np.sqrt(max(ms - 1.0, 0.0)))
 
+    def unexplained_share(self, m: Model) -> dict[str, float]:
+        """RMS model error beyond the noise on the held-out blocks, per channel, as a share of the
+        signal the channel predicts: sqrt(mean(R^2 - sigma^2)) over the RMS motor torque (moving
+        blocks) and over the RMS clamp force (released blocks in contact)."""
+        h, mdl, b = self.split.heldout, self.model, self.model.blocks
+        z = self.z_all(m.aug) + self.D @ m.t
+        out = {}
+        for ch, sigma, rows, ref in (
+                ("torque", self.sigma_torque, h & b.moving, mdl.drive_block()),
+                ("force", self.sigma_force, self.valid(h, "force") & (b.force > mdl.seg.force_rise), b.force)):
+            zc = z[:b.size] if ch == "torque" else z[b.size:]
+            if rows.sum() < 2:
+                out[ch] = 0.0
+                continue
+            excess = float(np.mean((zc[rows] ** 2 - 1.0) * sigma[rows] ** 2))
+            out[ch] = float(np.sqrt(max(excess, 0.0)) / max(np.sqrt(np.mean(ref[rows] ** 2)), 1e-12))
+        return out
+
     def misfit_p(self, m: Model) -> float:
         """p-value of "the twin within its tolerance fits the held-out data within the noise where ``m``
         acts".
@@ -370,16 +387,22 @@ class Fit:
     nuisance_std: dict[str, float]  # cluster-robust standard errors of the fitted nuisances
 
 
-def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, ...]) -> np.ndarray:
-    """Budget entries fitted with these effects: not an effect's own quantity, and acting only in the
-    fitted channels (an entry that also moves another channel keeps the value fitted there)."""
+def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, ...]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Budget entries fitted with these effects, and those held at zero.
+
+    Free: not an effect's own quantity, and acting only in the fitted channels.  An entry that also
+    moves another channel keeps the value fitted there; an effect's own quantity is held at zero
+    (the effect takes all of it: ``tolerance.OWN``).
+    """
     n = sc.model.blocks.size
     outside = [ch for ch in CHANNELS if ch not in channels]
     moves = np.zeros(len(tolerance.BUDGET), bool)
     for ch in outside:
         i = CHANNELS.index(ch)
         moves |= np.any(sc.D[i * n:(i + 1) * n] != 0.0, axis=0)
-    return np.array(tolerance.free(effect_names)) & ~moves
+    own = ~np.array(tolerance.free(effect_names))
+    return ~own & ~moves, own
 
 
 def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = ()) -> Fit:
@@ -390,9 +413,9 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     names = [n.name for n in specs]
     mask = sc.split.calibration
     rows = sc.rows(mask, channels)
-    free = _free_tolerances(sc, effect.name.split("+"), channels)
+    free, own = _free_tolerances(sc, effect.name.split("+"), channels)
     D = sc.D[rows][:, free]
-    t_fixed = np.where(free, 0.0, start.t)
+    t_fixed = np.where(free | own, 0.0, start.t)
     fixed_part = sc.D[rows] @ t_fixed
     q = int(free.sum())
     scale = np.array([*effect.scale, *(n.scale for n in specs), *np.ones(q)], dtype=float)
@@ -580,6 +603,7 @@ class Ranking:
     best_pair_shrink: float  # largest shrink of a single effect or greedy pair, supported or not
     gap_before: float  # held-out gap of the twin within its tolerance, W
     gap_nominal: float  # held-out gap of the nominal twin (nuisances fitted, no tolerance deviation)
+    unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer.unexplained_share)
     misfit_p: float  # chi-square p-value of W on held-out data where the top effect acts
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
@@ -629,7 +653,9 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     top = fits[0]
     top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and tied(0, j)]
     selected, joint, pair_shrink = _forward_select(sc, fits, level, s_before, gap_before)
-    material_gap = gap_before > GAP_MATERIAL
+    share = sc.unexplained_share(sc.base)
+    material_gap = share["torque"] > tolerance.MATERIAL_SHARE["torque"] or \
+        share["force"] > tolerance.MATERIAL_SHARE["force"]
     if joint is not None:
         verdict = "unexplained" if joint.shrink < SHRINK_NEEDED and material_gap else "effect"
     elif material_gap and pair_shrink < SHRINK_NEEDED:
@@ -637,8 +663,8 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     else:
         verdict = "none"
     nominal_gap = sc.gap(Model(sc.base.aug))
-    return Ranking(fits, selected, joint, pair_shrink, gap_before, nominal_gap, sc.misfit_p(top.model), verdict,
-                   level)
+    return Ranking(fits, selected, joint, pair_shrink, gap_before, nominal_gap, share, sc.misfit_p(top.model),
+                   verdict, level)
 
 
 def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: np.ndarray,

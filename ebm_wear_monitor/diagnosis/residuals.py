@@ -289,6 +289,7 @@ class ResidualModel:
         self._n_block = (b.stop - b.start + 1).astype(float)
         self.unresolved_torque = self._unresolved_torque()
         self.ambiguous_torque = self._ambiguous_torque()
+        self.drive_torque_nominal = nominal.K_T * rec.current  # 004 eq. 7 [N m]
 
     def _unresolved_torque(self) -> np.ndarray:
         """Per-block uncertainty of the motor-torque integral from current changes between samples [N m].
@@ -374,6 +375,12 @@ class ResidualModel:
         x = self._read_later(self.x, -aug.force_skew)
         spring = clamp_spring(self.nominal, aug).force(x)
         return (1.0 + aug.force_gain) * first_order_lag(spring, aug.force_lag, self.rec.dt)
+
+    def drive_block(self) -> np.ndarray:
+        """Block mean of the motor torque K_T I [N m] (the scale of the torque channel)."""
+        b = self.blocks
+        c = np.concatenate(([0.0], np.cumsum(self.drive_torque_nominal)))
+        return (c[b.stop + 1] - c[b.start]) / self._n_block
 
     # ----------------------------------------------------------------- block residuals
     def _net_integral(self, aug: Augment) -> np.ndarray:

@@ -29,12 +29,17 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0, seed: int = 0,
           noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
-          durations: tuple[float, float] = (0.15, 0.35)) -> Recording:
-    """A recording of ``cycles`` brake applications with effect ``aug`` present in the data."""
+          durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
+          drive_gain: float = 0.0) -> Recording:
+    """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
+
+    ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
+    torque constant (more current for the same torque: an effect outside the catalog).
+    """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
     if noise is None:
-        noise = {"angle": 2e-3, "velocity": 0.05, "axial_force": 30.0, "current": 0.03}
+        noise = {"angle": 1e-4, "velocity": 0.05, "axial_force": 30.0, "current": 0.03}  # 12-bit resolver
     parts = []
     t0 = 0.0
     for _ in range(cycles):
@@ -63,8 +68,8 @@ def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: fl
                           + T_L * (aug.eff_base + aug.eff_speed * speed)
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
     T_f = np.where(speed > 1e-3, T_f, 0.0)
-    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / nom.K_T  # 004 eq. 1, 7
-    force_meas = (1.0 + aug.force_gain) * F_true + aug.force_bias  # sensor gain and offset
+    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / (nom.K_T * (1.0 - drive_gain))  # 004 eq. 1, 7
+    force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
     sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
     return Recording(t, **sig)

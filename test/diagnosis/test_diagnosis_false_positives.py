@@ -43,7 +43,7 @@ def test_twin_at_the_recording_rate_gives_no_effect(twin_1khz):
 def test_quadrature_nuisance_finds_the_left_rectangle_of_a_held_force(twin_1khz):
     # the twin holds the force over each 1 ms step: the left rectangle = trapezoid read dt/2 earlier
     sc = twin_1khz[0]
-    assert sc.base.load_shift == pytest.approx(-0.5e-3, abs=0.12e-3)
+    assert sc.base.aug.load_shift == pytest.approx(-0.5e-3, abs=0.12e-3)
 
 
 @pytest.mark.parametrize("sampling", ["instant", "mean"])
@@ -53,7 +53,7 @@ def test_independent_integration_gives_no_effect(unit, sampling):
     assert ranking.verdict == "none"
     # a current averaged over the preceding period lags by half a period: the timing nuisance sees it
     expected = 0.5e-3 if sampling == "mean" else 0.0
-    assert sc.base.current_shift == pytest.approx(expected, abs=0.15e-3)
+    assert sc.base.aug.current_shift == pytest.approx(expected, abs=0.15e-3)
 
 
 def test_independent_integration_effect_is_found(unit):

@@ -1,4 +1,4 @@
-"""Fits recover the parameters they were given; the verdict and the split behave as documented.
+"""Fits recover the parameters they were given; the verdict, the floors and the split behave as documented.
 
 Data: closed-form brake cycles (diag_synth) obeying 004 eq. 1-9 with a known augmentation,
 so each catalog effect must find its own parameters (an invariant, not a copied number).
@@ -13,10 +13,11 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
+from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
-from ebm_wear_monitor.diagnosis.phases import segment
-from ebm_wear_monitor.diagnosis.ranking import Scorer, fit_effect, improvement_p, rank, split_by_cycle
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal, ResidualModel
+from ebm_wear_monitor.diagnosis.pipeline import residual_model
+from ebm_wear_monitor.diagnosis.ranking import Scorer, fit, improvement_p, rank, split_by_cycle
+from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 
@@ -31,22 +32,26 @@ TRUTH = {
     "stribeck": (Augment(stribeck_torque=0.15, stribeck_speed=20.0), [0.15, 20.0]),
     "stiffness_nonlinearity": (Augment(stiffness_quad=2e10), [2e10]),
     "clearance_growth": (Augment(clearance=3e-5), [3e-5]),
-    "force_sensor_bias": (Augment(force_bias=400.0, force_gain=0.03), [400.0, 0.03]),
+    "force_sensor_bias": (Augment(force_gain=0.06), [0.06]),
 }
 
 
-def scorer(aug, seed=0, cycles=10):
-    rec = synth(NOM, aug, cycles=cycles, seed=seed)
-    return Scorer.build(ResidualModel(rec, segment(rec), NOM)), rec
+def scorer(aug, seed=0, cycles=10, **kw):
+    rec = synth(NOM, aug, cycles=cycles, seed=seed, **kw)
+    model = residual_model(rec, NOM)
+    return Scorer.build(model), model
+
+
+def catalog(model):
+    return build_catalog(NOM, float(model.speed.max()), float(model.force.max()))
 
 
 @pytest.mark.parametrize("name", list(TRUTH))
 def test_each_effect_recovers_its_own_parameters(name):
     aug, expected = TRUTH[name]
-    sc, rec = scorer(aug)
-    cat = build_catalog(NOM, float(np.abs(sc.model.w_m).max()), float(rec.axial_force.max()))
-    theta, se = fit_effect(sc, cat[name])
-    for value, err, true in zip(theta[:-2], se[:-2], expected, strict=True):  # last two: nuisances
+    sc, model = scorer(aug, force_offset=180.0)  # a tare in the data too
+    f = fit(sc, catalog(model)[name], sc.base)
+    for value, err, true in zip(f.theta, f.stderr, expected, strict=True):
         # within 4 cluster-robust standard errors or 5 % (the fit's resolution on 5 calibration cycles)
         assert abs(value - true) <= max(4.0 * err, 0.05 * abs(true)), (name, value, err, true)
 
@@ -55,18 +60,42 @@ def test_each_effect_recovers_its_own_parameters(name):
                                   "stiffness_nonlinearity"])
 def test_strong_effect_is_named(name):
     aug, _ = TRUTH[name]
-    sc, rec = scorer(aug, seed=3, cycles=12)
-    cat = build_catalog(NOM, float(np.abs(sc.model.w_m).max()), float(rec.axial_force.max()))
-    r = rank(sc, cat)
-    assert r.verdict == "effect" and r.top.effect.name == name
-    assert r.top.gap_after < 0.5 * r.gap_before
+    sc, model = scorer(aug, seed=3, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect" and r.effect.effect.name == name
+    assert r.joint.gap_after < 0.5 * r.gap_before
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_no_effect_gives_verdict_none(seed):
-    sc, rec = scorer(Augment(), seed=seed, cycles=12)
-    cat = build_catalog(NOM, float(np.abs(sc.model.w_m).max()), float(rec.axial_force.max()))
-    assert rank(sc, cat).verdict == "none"
+    sc, model = scorer(Augment(), seed=seed, cycles=12)
+    assert rank(sc, catalog(model)).verdict == "none"
+
+
+def test_deviation_within_the_budget_is_not_material():
+    # every budget entry at 90 % of its bound at once: a healthy unit as far off as the budget allows
+    dev = Augment()
+    for t in tolerance.BUDGET:
+        dev = tolerance.apply(dev, t.deviation(NOM))
+    scaled = Augment(**{f: 0.9 * getattr(dev, f) for f in ("dB", "clearance", "force_gain")})
+    sc, model = scorer(scaled, seed=5, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "none", [(f.effect.name, f.size, f.floor) for f in r.fits[:3]]
+
+
+def test_two_effects_are_both_named():
+    sc, model = scorer(Augment(clearance=4e-5, dG=1.2e-5), seed=6, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect"
+    assert {f.effect.name for f in r.selected} == {"clearance_growth", "load_friction"}
+    assert r.joint.shrink > 0.9
+
+
+def test_effect_outside_the_catalog_is_unexplained():
+    # a 15 % loss of the motor's torque constant: more current for every torque, in both directions
+    sc, model = scorer(Augment(), seed=7, cycles=12, drive_gain=0.15)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "unexplained", (r.top.effect.name, r.top.shrink, r.unexplained_share)
 
 
 def test_split_alternates_and_needs_four_cycles():

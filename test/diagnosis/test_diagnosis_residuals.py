@@ -9,9 +9,10 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
-from ebm_wear_monitor.diagnosis.phases import GENERATION, segment
+from ebm_wear_monitor.diagnosis.phases import GENERATION
+from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal, ResidualModel
+from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 
@@ -30,39 +31,38 @@ def test_equivalent_inertia_is_004_eq2(nom):
 
 
 def test_nominal_residual_vanishes_on_exact_data(nom):
-    rec = synth(nom, cycles=4, noise=QUIET)
-    m = ResidualModel(rec, segment(rec), nom)
+    m = residual_model(synth(nom, cycles=4, noise=QUIET), nom)
     r = m.residuals()
-    # discretisation only (worst at the start of a motion): below 5 % of the Coulomb torque, typically
-    # below 0.2 %, and below 1 N of force
-    assert np.abs(r["torque"]).max() < 0.05 * nom.T_fc
-    assert np.median(np.abs(r["torque"])) < 0.002 * nom.T_fc
-    assert np.abs(r["force"]).max() < 1.0
+    # discretisation of the angle-speed regression only (a quadratic over 5 samples at 500 Hz, worst where
+    # a move starts): below 6 % of the Coulomb torque, typically below 0.5 %, and below 1 N of force
+    assert np.abs(r["torque"]).max() < 0.06 * nom.T_fc
+    assert np.median(np.abs(r["torque"])) < 0.005 * nom.T_fc
+    released = m.conv.released[m.blocks.cycle]  # the first application starts with the recording: no rest
+    assert np.abs(r["force"][released]).max() < 1.0
+    assert not m.conv.released[0] and m.conv.released[1:].all()
 
 
 def test_viscous_effect_appears_as_torque_proportional_to_speed(nom):
     dB = 1e-3
-    rec = synth(nom, Augment(dB=dB), cycles=4, noise=QUIET)
-    m = ResidualModel(rec, segment(rec), nom)
+    m = residual_model(synth(nom, Augment(dB=dB), cycles=4, noise=QUIET), nom)
     b, r = m.blocks, m.residuals()
-    mv = b.moving
-    w_m = b.speed[mv] * nom.i_g * np.sign(r["torque"][mv])
+    mv = b.moving & (b.speed > 0.2 * b.speed.max())
+    w_m = b.speed[mv] * np.sign(r["torque"][mv])
     # R_T = dB * w_m within the block averaging of the speed
     assert np.median(r["torque"][mv] / w_m) == pytest.approx(dB, rel=0.05)
     # the re-anchored speed error is R_T dt / J_me at the screw: same sign, size from the block length
     sig = m.signal_residuals()
-    dt = rec.t[b.stop] - rec.t[b.start]
+    dt = m.rec.t[b.stop] - m.rec.t[b.start]
     assert np.allclose(sig["velocity"], r["torque"] * dt / nom.J_me / nom.i_g)
 
 
 def test_clearance_shows_in_force_channel_only_during_contact(nom):
-    rec = synth(nom, Augment(clearance=2e-5), cycles=4, noise=QUIET)
-    m = ResidualModel(rec, segment(rec), nom)
+    m = residual_model(synth(nom, Augment(clearance=2e-5), cycles=4, noise=QUIET), nom)
     b, r = m.blocks, m.residuals()
     gen = (b.phase == GENERATION) & (b.force > 2e3)
     # F_meas - K_b (x - x_ag) = -K_b dx once both laws are in contact
     assert np.median(r["force"][gen]) == pytest.approx(-nom.K_b * 2e-5, rel=0.02)
-    assert np.median(np.abs(r["torque"])) < 0.002 * nom.T_fc
+    assert np.median(np.abs(r["torque"])) < 0.005 * nom.T_fc
 
 
 def test_recording_from_signals_rejects_missing_topic():
@@ -71,18 +71,22 @@ def test_recording_from_signals_rejects_missing_topic():
         recording_from_signals({"angle": (t, t), "velocity": (t, t), "axial_force": (t, t)})
 
 
-def test_recording_from_signals_sorts_and_dedups():
+def test_recording_from_signals_sorts_dedups_and_keeps_native_intervals():
     t = np.linspace(0, 1, 200)
     rev = t[::-1]
+    slow = t[::4]  # a topic at a quarter of the rate, interpolated onto the angle's stamps
     sig = {"angle": (rev, 2 * rev), "velocity": (np.concatenate([t, t[:5]]), np.concatenate([t, t[:5]])),
-           "axial_force": (t, 3 * t), "current": (t, -t)}
+           "axial_force": (slow, 3 * slow), "current": (t, -t)}
     rec = recording_from_signals(sig)
-    assert rec.t.size == 200 and np.allclose(rec.angle, 2 * rec.t) and np.allclose(rec.current, -rec.t)
+    assert np.allclose(rec.angle, 2 * rec.t) and np.allclose(rec.current, -rec.t)
+    assert np.allclose(rec.axial_force, 3 * rec.t)
+    assert rec.interval("axial_force") == pytest.approx(4 * rec.interval("angle"))
 
 
-def test_force_channel_ignores_an_encoder_offset(nom):
+def test_force_channel_ignores_encoder_zero_and_tare(nom):
     rec = synth(nom, Augment(clearance=2e-5), cycles=4, seed=1)
-    shifted = Recording(rec.t, rec.angle + 57.3, rec.velocity, rec.axial_force, rec.current)
-    r0 = ResidualModel(rec, segment(rec), nom).residuals()["force"]
-    r1 = ResidualModel(shifted, segment(shifted), nom).residuals()["force"]
-    assert np.allclose(r0, r1, atol=1e-6 * nom.K_b * 2e-5)
+    moved = Recording(rec.t, rec.angle + 57.3, rec.velocity, rec.axial_force + 321.0, rec.current)
+    r0 = residual_model(rec, nom).residuals()["force"]
+    r1 = residual_model(moved, nom).residuals()["force"]
+    # the tare is estimated per application from its idle readings: equal to well within the noise
+    assert np.max(np.abs(r0 - r1)) < 3.0

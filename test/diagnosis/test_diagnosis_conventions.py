@@ -1,0 +1,96 @@
+"""Acquisition conventions are estimated from the data and never read as effects (issue 10 item 2).
+
+Recordings: the closed-form cycles of diag_synth (004 eq. 1-9 written out there) changed by one
+convention at a time: what the diagnosis estimates must match what was applied, and the verdict on a
+unit without an effect must stay ``none``.
+"""
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.signal import lfilter
+
+sys.path.insert(0, str(Path(__file__).parent))
+from diag_synth import synth
+
+from ebm_wear_monitor.diagnosis.pipeline import analyse, residual_model
+from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.residuals import Nominal
+from ebm_wear_monitor.diagnosis.speed import local_slope
+from ebm_wear_monitor.params import load_unit
+
+UNIT = load_unit()
+NOM = Nominal.from_unit(UNIT)
+
+
+def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():
+    rng = np.random.default_rng(1)
+    t = np.cumsum(rng.uniform(0.8e-3, 1.2e-3, 400))
+    y = 3.0 + 2.0 * t - 5.0 * t**2
+    slope, factor = local_slope(t, y, 3)
+    assert np.allclose(slope, 2.0 - 10.0 * t, atol=1e-9)
+    # within a group the window is one-sided at the edges and still exact
+    group = (t > t[200]).astype(int)
+    slope_g, _ = local_slope(t, y, 3, group)
+    assert np.allclose(slope_g, 2.0 - 10.0 * t, atol=1e-9)
+    # variance factor of a centred 7-point line fit with unit spacing h: 12 / (h^2 n (n^2 - 1))
+    h = 1e-3
+    _, f = local_slope(np.arange(50) * h, np.zeros(50), 3)
+    assert f[25] == pytest.approx(12.0 / (h * h * 7 * 48), rel=1e-9)
+
+
+def _lagged(x: np.ndarray, tau: float, dt: float) -> np.ndarray:
+    a = math.exp(-dt / tau)
+    return lfilter([1 - a], [1, -a], x, zi=[a * x[0]])[0]
+
+
+def _variants(rec: Recording) -> dict[str, Recording]:
+    dt = rec.dt
+    rng = np.random.default_rng(5)
+    cycles = residual_model(rec, NOM).seg.cycle
+    return {
+        "encoder zero": Recording(rec.t, rec.angle - 812.4, rec.velocity, rec.axial_force, rec.current),
+        "force tare": Recording(rec.t, rec.angle, rec.velocity, rec.axial_force - 250.0, rec.current),
+        "force lag 1.5 ms": Recording(rec.t, rec.angle, rec.velocity, _lagged(rec.axial_force, 1.5e-3, dt),
+                                      rec.current),
+        "velocity lag 4 ms": Recording(rec.t, rec.angle, np.interp(rec.t - 4e-3, rec.t, rec.velocity),
+                                       rec.axial_force, rec.current),
+        "current offset": Recording(rec.t, rec.angle, rec.velocity, rec.axial_force, rec.current + 0.04),
+        "rest angle per application": Recording(
+            rec.t, rec.angle + rng.normal(0.0, 3e-3, cycles.max() + 1)[cycles], rec.velocity,
+            rec.axial_force, rec.current),
+    }
+
+
+@pytest.fixture(scope="module")
+def base_recording():
+    return synth(NOM, cycles=10, seed=4, rate=1000.0, noise={"angle": 2e-4, "velocity": 0.05,
+                                                             "axial_force": 30.0, "current": 0.02})
+
+
+@pytest.mark.parametrize("name", ["encoder zero", "force tare", "force lag 1.5 ms", "velocity lag 4 ms",
+                                  "current offset", "rest angle per application"])
+def test_a_convention_alone_is_no_effect(base_recording, name):
+    rec = _variants(base_recording)[name]
+    sc, ranking = analyse(rec, UNIT)
+    assert ranking.verdict == "none", (name, ranking.top.effect.name, ranking.top.size)
+
+
+def test_conventions_are_estimated(base_recording):
+    v = _variants(base_recording)
+    conv = residual_model(v["force tare"], NOM).conv
+    assert conv.estimates["force_tare_N"].value == pytest.approx(-250.0, abs=5.0)
+    conv = residual_model(v["velocity lag 4 ms"], NOM).conv
+    assert conv.estimates["velocity_lag_s"].value == pytest.approx(4e-3, abs=0.3e-3)
+    assert conv.estimates["velocity_gain"].value == pytest.approx(1.0, abs=0.02)
+    sc, _ = analyse(v["force lag 1.5 ms"], UNIT)
+    # the discrete lag applied above, y_k = a y_(k-1) + (1 - a) x_k with a = exp(-dt / 1.5 ms), delays a
+    # slow signal by a dt / (1 - a); the fit reads it as lag + skew (collinear away from kinks)
+    dt = base_recording.dt
+    a = math.exp(-dt / 1.5e-3)
+    assert sc.base.aug.force_lag + sc.base.aug.force_skew == pytest.approx(a * dt / (1 - a), abs=0.2e-3)
+    sc, _ = analyse(v["current offset"], UNIT)
+    assert sc.base.aug.current_offset == pytest.approx(0.04, abs=0.01)
