@@ -7,8 +7,13 @@ level has to be configured:
   at dt plus white noise n_k of standard deviation sigma, the second difference
   d_k = x_{k+1} - 2 x_k + x_{k-1} is x''(t) dt^2 (negligible at 0.1-1 kHz) plus
   n_{k+1} - 2 n_k + n_{k-1}, whose variance is (1 + 4 + 1) sigma^2 = 6 sigma^2.
-  Kinks (contact, stops) give a few large d_k; the median absolute deviation
-  ignores them: sigma = 1.4826 MAD(d) / sqrt(6).
+  Kinks (contact, stops) give a few large d_k, which a robust scale ignores.  The
+  median absolute deviation is that scale for continuous noise, but a quantised
+  signal (an encoder, an ADC) has second differences in {0, +-q, +-2q}, mostly 0 when
+  the noise is below the step, and its MAD collapses to zero while the noise does not
+  (a quantum q adds q^2 / 12 per sample).  So the scale is the RMS of the central
+  95 % of |d|, divided by its Gaussian trimming factor sqrt(0.759) and by sqrt(6),
+  and never below the quantisation noise q / sqrt(12) of the smallest step seen.
 * **Block residual series** (:func:`series_noise`). Residuals averaged over
   short blocks (see :mod:`.residuals`) are smooth in their model-error part and
   white in their noise part. A second difference at lag 2 (blocks that share no
@@ -30,12 +35,22 @@ def mad_sigma(x: np.ndarray) -> float:
     return float(MAD_TO_SIGMA * np.median(np.abs(x - np.median(x))))
 
 
+TRIM = 0.95  # share of the second differences kept by the robust scale
+TRIM_FACTOR = 0.7590  # E[X^2 | |X| < 1.96] for a standard normal X: the variance the trimming keeps
+
+
 def signal_noise(x: np.ndarray) -> float:
     """White-noise standard deviation of a sampled signal, from its second differences (see module doc)."""
     x = np.asarray(x, dtype=float)
     if x.size < 3:
         return 0.0
-    return mad_sigma(x[2:] - 2.0 * x[1:-1] + x[:-2]) / np.sqrt(6.0)
+    d = np.abs(x[2:] - 2.0 * x[1:-1] + x[:-2])
+    kept = d[d <= np.quantile(d, TRIM)]
+    sigma = float(np.sqrt(np.mean(kept * kept) / TRIM_FACTOR / 6.0)) if kept.size else 0.0
+    steps = np.abs(np.diff(x))
+    steps = steps[steps > 1e-12 * max(1.0, float(np.max(np.abs(x))))]
+    quantum = float(np.min(steps)) if steps.size else 0.0
+    return max(sigma, quantum / np.sqrt(12.0))
 
 
 def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:

@@ -44,8 +44,9 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     N(0, 1) at 0.05 / K (Bonferroni over the K effects; :func:`improvement_p`);
 (b) practical: its fitted size exceeds its detectability floor, derived from the
     model-tolerance budget on this recording (:mod:`.tolerance`);
-(c) explanatory: it (or the pair it is part of) closes at least half of the held-out
-    gap, ``SHRINK_NEEDED``.
+(c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
+    of the material model error, in every channel where that error is material
+    (:meth:`Scorer.unexplained_share`).
 
 **Forward selection** (two effects).  After the best single effect passing (a) and
 (b), every other effect is fitted *together* with it; the second is kept when its
@@ -54,9 +55,9 @@ addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)) 
 explains more on its own.
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
-when the gap of the twin within its tolerance is *material* and no effect or pair
-closes half of it, and ``none`` when it is not material: the twin explains the data
-within its tolerance.  Material means in physical units (:meth:`Scorer.unexplained_share`):
+when the model error of the twin within its tolerance is *material* and no effect or
+pair closes half of it, and ``none`` when it is not material: the twin explains the
+data within its tolerance.  Material means in physical units (:meth:`Scorer.unexplained_share`):
 the RMS model error beyond the noise exceeds, as a share of what the channel predicts,
 the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
 
@@ -181,6 +182,8 @@ class Scorer:
     D: np.ndarray = field(default_factory=lambda: np.zeros((0, len(tolerance.BUDGET))))
     base: Model = field(default_factory=Model)  # the twin within its tolerance, W (the "before" model)
     base_std: dict[str, float] = field(default_factory=dict)  # standard errors of base's nuisances
+    #: block noise propagated from the sensors alone (no residual-based scale-up), torque [N m], force [N]
+    sensor_sigma: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
 
     @classmethod
     def build(cls, model: ResidualModel, reference: Augment | None = None) -> Scorer:
@@ -208,8 +211,9 @@ class Scorer:
         r = model.residuals(reference)
         c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
         c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
-        s_f = np.hypot(c_f * s_f, contact_spread(model, r["force"], c_f * s_f) * (b.force > model.seg.force_rise))
-        sc = cls(model, split, np.hypot(c_t * s_t, extra_t), s_f, specs)
+        spread = contact_spread(model, r["force"], c_f * s_f) * (b.force > model.seg.force_rise)
+        sc = cls(model, split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread), specs,
+                 sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
         sc = dataclasses.replace(sc, D=sc.responses(pre.base.aug))
         base, std = fit_base(sc, pre.base)
         return dataclasses.replace(sc, base=base, base_std=std)
@@ -277,20 +281,25 @@ class Scorer:
         return float(np.sqrt(max(ms - 1.0, 0.0)))
 
     def unexplained_share(self, m: Model) -> dict[str, float]:
-        """RMS model error beyond the noise on the held-out blocks, per channel, as a share of the
-        signal the channel predicts: sqrt(mean(R^2 - sigma^2)) over the RMS motor torque (moving
-        blocks) and over the RMS clamp force (released blocks in contact)."""
+        """RMS model error beyond the sensor noise on the held-out blocks, per channel, as a share of the
+        signal the channel predicts: sqrt(mean(R^2 - sigma_s^2)) over the RMS motor torque (moving
+        blocks) and over the RMS clamp force (released blocks in contact).
+
+        sigma_s is the block noise propagated from the sensors alone: the residual-based scale-up of
+        :meth:`build` may take a model error for coloured noise, and must not hide it here.
+        """
         h, mdl, b = self.split.heldout, self.model, self.model.blocks
         z = self.z_all(m.aug) + self.D @ m.t
         out = {}
-        for ch, sigma, rows, ref in (
-                ("torque", self.sigma_torque, h & b.moving, mdl.drive_block()),
-                ("force", self.sigma_force, self.valid(h, "force") & (b.force > mdl.seg.force_rise), b.force)):
+        for ch, sigma, sensor, rows, ref in (
+                ("torque", self.sigma_torque, self.sensor_sigma[0], h & b.moving, mdl.drive_block()),
+                ("force", self.sigma_force, self.sensor_sigma[1],
+                 self.valid(h, "force") & (b.force > mdl.seg.force_rise), b.force)):
             zc = z[:b.size] if ch == "torque" else z[b.size:]
             if rows.sum() < 2:
                 out[ch] = 0.0
                 continue
-            excess = float(np.mean((zc[rows] ** 2 - 1.0) * sigma[rows] ** 2))
+            excess = float(np.mean((zc[rows] * sigma[rows]) ** 2 - sensor[rows] ** 2))
             out[ch] = float(np.sqrt(max(excess, 0.0)) / max(np.sqrt(np.mean(ref[rows] ** 2)), 1e-12))
         return out
 
@@ -367,12 +376,20 @@ def contact_spread(model: ResidualModel, r_force: np.ndarray, sigma: np.ndarray)
 def _quietest_phase_noise(r: np.ndarray, model: ResidualModel, rows: np.ndarray) -> float:
     """Residual-based noise scale: the smallest :func:`.noise.series_noise` of r over the phases.
 
-    Each phase with enough blocks gives an estimate; model error that the lag-2 curvature does
-    not cancel can only inflate it, so the quietest phase is the closest to the noise.
+    Each phase with enough blocks gives an estimate from the blocks inside its runs, two blocks away
+    from either end: a model error is sharpest where a motion starts or stops (an inertia or a
+    timing error then carries the acceleration's step), and the lag-2 curvature would take it for
+    noise; inside a run a model error varies smoothly and cancels.  Model error that still does not
+    cancel can only inflate the estimate, so the quietest phase is the closest to the noise.
     """
     b = model.blocks
+    first = np.concatenate(([True], b.run[1:] != b.run[:-1]))
+    start = np.maximum.accumulate(np.where(first, np.arange(b.size), 0))
+    last = np.concatenate((b.run[1:] != b.run[:-1], [True]))
+    stop = np.minimum.accumulate(np.where(last, np.arange(b.size), b.size)[::-1])[::-1]
+    inner = (np.arange(b.size) - start >= 2) & (stop - np.arange(b.size) >= 2)
     est = [series_noise(r[k], b.run[k]) for ph in np.unique(b.phase)
-           if (k := rows & (b.phase == ph)).sum() >= 12]
+           if (k := rows & inner & (b.phase == ph)).sum() >= 12]
     est = [e for e in est if e > 0.0]
     return min(est) if est else 0.0
 
@@ -516,6 +533,7 @@ class EffectFit:
     size: float = 0.0  # size in the effect's own unit (:mod:`.catalog`)
     size_std: float = 0.0
     floor: float = 0.0  # detectability floor of the size (:mod:`.tolerance`)
+    share: dict[str, float] = field(default_factory=dict)  # unexplained share per channel with the effect
     ties: list[str] = field(default_factory=list)
 
     @property
@@ -565,6 +583,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
     ef.floor = tolerance.FLOORS.get(effect.name, 0.0)
+    ef.share = sc.unexplained_share(f.model)
     return ef
 
 
@@ -600,7 +619,7 @@ class Ranking:
     fits: list[EffectFit]  # single effects, best first
     selected: list[EffectFit]  # forward selection: the effects the data support, in order of selection
     joint: EffectFit | None  # the selected effects fitted together (None when none is selected)
-    best_pair_shrink: float  # largest shrink of a single effect or greedy pair, supported or not
+    best_pair_shrink: float  # largest share of the material gap a single effect or greedy pair closes
     gap_before: float  # held-out gap of the twin within its tolerance, W
     gap_nominal: float  # held-out gap of the nominal twin (nuisances fitted, no tolerance deviation)
     unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer.unexplained_share)
@@ -652,31 +671,37 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         fits.insert(0, fits.pop(j))
     top = fits[0]
     top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and tied(0, j)]
-    selected, joint, pair_shrink = _forward_select(sc, fits, level, s_before, gap_before)
     share = sc.unexplained_share(sc.base)
-    material_gap = share["torque"] > tolerance.MATERIAL_SHARE["torque"] or \
-        share["force"] > tolerance.MATERIAL_SHARE["force"]
+    material = [ch for ch in CHANNELS if share[ch] > tolerance.MATERIAL_SHARE[ch]]
+
+    def closes_half(f: EffectFit) -> bool:
+        return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
+
+    selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before)
     if joint is not None:
-        verdict = "unexplained" if joint.shrink < SHRINK_NEEDED and material_gap else "effect"
-    elif material_gap and pair_shrink < SHRINK_NEEDED:
+        verdict = "effect" if closes_half(joint) else "unexplained"
+    elif material and not any(closes_half(f) for f in candidates):
         verdict = "unexplained"
     else:
         verdict = "none"
+    best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
+        if material else 1.0
     nominal_gap = sc.gap(Model(sc.base.aug))
-    return Ranking(fits, selected, joint, pair_shrink, gap_before, nominal_gap, share, sc.misfit_p(top.model),
+    return Ranking(fits, selected, joint, best, gap_before, nominal_gap, share, sc.misfit_p(top.model),
                    verdict, level)
 
 
 def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: np.ndarray,
-                    gap_before: float) -> tuple[list[EffectFit], EffectFit | None, float]:
+                    gap_before: float) -> tuple[list[EffectFit], EffectFit | None, list[EffectFit]]:
     """Best supported single effect, then the best supported second one fitted together with it.
 
-    Also returns the largest shrink of the best single effect or its best pair, supported or not
-    (the ``unexplained`` test: does any effect, or pair, close half of the gap at all?).
+    Also returns every single effect and every pair with the lead effect (the supported one, else the
+    best-scoring): the candidates of the ``unexplained`` test (does any effect, or pair, close half of
+    the material gap at all?).
     """
     first = next((f for f in fits if _supported(sc, f, level)), None)
     lead = first if first is not None else fits[0]
-    best_shrink = max(f.shrink for f in fits)
+    candidates = list(fits)
     best_pair: tuple[EffectFit, EffectFit] | None = None
     k1 = lead.effect.k
     for f in fits:
@@ -684,7 +709,7 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
             continue
         pair_effect = combine(lead.effect, f.effect)
         pair = evaluate(sc, pair_effect, s_before, gap_before)
-        best_shrink = max(best_shrink, pair.shrink)
+        candidates.append(pair)
         if first is None:
             continue
         theta2, se2 = pair.theta[k1:], pair.stderr[k1:]
@@ -695,10 +720,10 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
         if ok and (best_pair is None or pair.score > best_pair[0].score):
             best_pair = (pair, second)
     if first is None:
-        return [], None, best_shrink
+        return [], None, candidates
     if best_pair is None:
-        return [first], first, best_shrink
-    return [first, best_pair[1]], best_pair[0], best_shrink
+        return [first], first, candidates
+    return [first, best_pair[1]], best_pair[0], candidates
 
 
 def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,

@@ -101,7 +101,7 @@ def _fig_overlay(sc: Scorer, ranking: Ranking, found: bool, path: Path) -> None:
         idx = np.flatnonzero(m.seg.cycle == c)
         t = m.rec.t[idx] - m.rec.t[idx[0]]
         for row, (recorded, nominal, augmented, what, unit) in enumerate((
-                (m.rec.current[idx], needed_current(sc, sc.base)[idx],
+                (m.rec.current[idx], needed_current(sc, sc.base.aug)[idx],
                  None if aug is None else needed_current(sc, aug)[idx], "current", "A"),
                 (m.rec.axial_force[idx], m.force_model(NOMINAL)[idx],
                  None if aug is None else m.force_model(aug)[idx], "axial force", "N"))):

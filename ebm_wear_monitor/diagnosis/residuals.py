@@ -318,26 +318,40 @@ class ResidualModel:
 
         004 eq. 9 switches between sliding friction (T_fc + G F) sgn(w_m) + B w_m and the stick
         branch, where the friction is anything within +-(T_fs + G F).  At low speed a drive
-        creeps by stick-slip (a position loop pushing against breakaway), faster than any speed
+        may creep by stick-slip (a position loop pushing against breakaway), faster than any speed
         estimate resolves: a block that moves on average may hold intervals in which the screw
-        did not move at all.  Such an interval is one whose angle change cannot be told from
-        standstill, |d theta| <= max(3 sqrt(2) sigma_theta, the encoder's quantum); in it the
-        friction is only known to lie in the stick band, uniformly: standard deviation
-        (T_fs + G F) / sqrt(3).  The errors of one creep share a sign, so a block's uncertainty
-        is the share of such intervals among its moving ones times that standard deviation.
-        Blocks that slide cleanly (no such interval) keep their full weight.
+        did not move at all.  Such a block moves *irregularly*: its angle increments scatter about
+        their trend (a straight line in time) by more than the angle noise allows, three times
+        sqrt(2) sigma_theta (or the encoder's quantum, whichever is larger).  In its intervals that
+        cannot be told from standstill, |d theta| <= that same bound, the friction is only known
+        to lie in the stick band, uniformly: standard deviation (T_fs + G F) / sqrt(3).  The errors
+        of one creep share a sign, so such a block's uncertainty is the share of those intervals
+        among its moving ones times that standard deviation.  Smoothly moving blocks (a slow but
+        steady creep included) keep their full weight.
         """
         rec, b, n = self.rec, self.blocks, self.nominal
-        dtheta = np.abs(np.diff(rec.angle))
-        steps = dtheta[dtheta > 1e-12 * max(1.0, float(np.max(np.abs(rec.angle))))]
+        dtheta = np.diff(rec.angle)
+        adt = np.abs(dtheta)
+        steps = adt[adt > 1e-12 * max(1.0, float(np.max(np.abs(rec.angle))))]
         quantum = float(np.min(steps)) if steps.size else 0.0
-        still = dtheta <= max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * quantum)
+        bound = max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * quantum)
         moving_interval = self.moving[1:] | self.moving[:-1]
-        amb = np.concatenate(([0.0], np.cumsum(still & moving_interval)))
-        mov = np.concatenate(([0.0], np.cumsum(moving_interval)))
+        cum = lambda y: np.concatenate(([0.0], np.cumsum(y)))  # noqa: E731
+        k = np.arange(dtheta.size, dtype=float)
+        # per block (intervals start..stop-1): least-squares line of the increments against their index
+        S0, S1, S2 = (cum(k**p)[b.stop] - cum(k**p)[b.start] for p in (0, 1, 2))
+        Y0, Y1, Y2 = (cum(v)[b.stop] - cum(v)[b.start] for v in (dtheta, k * dtheta, dtheta**2))
+        den = np.maximum(S0 * S2 - S1**2, 1e-300)
+        slope = (S0 * Y1 - S1 * Y0) / den
+        icpt = (Y0 - slope * S1) / np.maximum(S0, 1.0)
+        sse = Y2 - icpt * Y0 - slope * Y1
+        scatter = np.sqrt(np.maximum(sse, 0.0) / np.maximum(S0 - 2.0, 1.0))
+        irregular = scatter > bound
+        amb = cum(((adt <= bound) & moving_interval).astype(float))
+        mov = cum(moving_interval.astype(float))
         share = (amb[b.stop] - amb[b.start]) / np.maximum(mov[b.stop] - mov[b.start], 1.0)
         band = (n.T_fs + n.G * np.abs(b.force)) / math.sqrt(3.0)
-        return share * band * b.moving
+        return share * band * (b.moving & irregular)
 
     # ----------------------------------------------------------------- model terms per sample
     def _read_later(self, y: np.ndarray, shift: float) -> np.ndarray:

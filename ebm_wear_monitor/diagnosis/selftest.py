@@ -74,8 +74,9 @@ REFERENCE_MAGNITUDES = {"viscous_friction": (1.0, 1.0), "load_friction": (0.3, 0
                         "preload_change": (0.1, 0.31), "clearance_growth": (6e-5, 0.3),
                         "force_sensor_bias": (2000.0, 0.1)}
 
-#: twin effect name -> the catalog effect the diagnosis should name
-EXPECTED = {"force_sensor_gain": "force_sensor_bias"}
+#: twin effect name -> the catalog effect the diagnosis should name (None: an acquisition convention in the
+#: diagnosis's terms, estimated and reported under ``nuisances``: the twin's force-sensor *offset* is a tare)
+EXPECTED: dict[str, str | None] = {"force_sensor_gain": "force_sensor_bias", "force_sensor_bias": None}
 
 #: effect -> [(magnitude, relative change of the affected quantity)]
 MAGNITUDES: dict[str, list[tuple[float, float]]] = {
@@ -110,11 +111,11 @@ class Case:
 
     @property
     def label(self) -> str:
-        return "+".join(sorted(self.effects)) or "none"
+        return "+".join(sorted(self.expected)) or "none"
 
     @property
     def expected(self) -> set[str]:
-        return {EXPECTED.get(e, e) for e in self.effects}
+        return {x for e in self.effects if (x := EXPECTED.get(e, e)) is not None}
 
 
 def case_set(quick: bool = False) -> list[Case]:
@@ -189,8 +190,8 @@ def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 
             "verdict": res["verdict"], "diagnosed": res["effect"] or "none", "top2": ranked[:2],
             "gap_before": res["gap_before"], "gap_after": res["gap_after"],
             "gap_after_top": top_gap,
-            "top1_ok": bool(case.effects) and res["effect"] in case.expected,
-            "top2_ok": bool(case.effects) and bool(case.expected & set(ranked[:2])),
+            "top1_ok": bool(case.expected) and res["effect"] in case.expected,
+            "top2_ok": bool(case.expected) and bool(case.expected & set(ranked[:2])),
             "where": [res["where"]["phase"], res["where"]["signal"]],
         })
         if on_case is not None:
