@@ -82,6 +82,7 @@ from scipy import optimize, stats
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.phases import IDLE
 from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
     NOMINAL,
@@ -211,7 +212,9 @@ class Scorer:
         r = model.residuals(reference)
         c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
         c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
-        spread = contact_spread(model, r["force"], c_f * s_f) * (b.force > model.seg.force_rise)
+        # where pads touch or are about to (every block of an application but idle): a shifted contact
+        # position moves the force there, and the model's own contact point may fall on either side
+        spread = contact_spread(model, r["force"], c_f * s_f) * (b.phase != IDLE)
         sc = cls(model, split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread), specs,
                  sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
         sc = dataclasses.replace(sc, D=sc.responses(pre.base.aug))
@@ -351,11 +354,13 @@ def contact_spread(model: ResidualModel, r_force: np.ndarray, sigma: np.ndarray)
     touch after the same travel (004 eq. 5 counted from each rest angle, the reference) or at
     the same absolute angle (the travel varies by the parking error) is a property of the brake,
     not of the twin.  A per-application offset u_c of the contact position moves every contact
-    block of that application by K_b u_c.  Its variance is estimated from the per-application
+    block of that application by K_b u_c, and decides whether the blocks around the contact see
+    force at all.  Its variance is estimated from the per-application
     mean residual of the contact blocks at low force (below 30 % of the application's peak, where
     shape effects are small): var(mean) minus its noise share, zero when the spread is within the
-    noise.  Added in quadrature to the noise of contact blocks, it keeps the parking convention
-    from reading as a misfit; an extra clearance shifts every application alike and stays visible.
+    noise.  Added in quadrature to the noise of every block of an application but its idle ones, it
+    keeps the parking convention from reading as a misfit; an extra clearance shifts every
+    application alike and stays visible.
     """
     b = model.blocks
     contact = b.force > model.seg.force_rise

@@ -88,6 +88,7 @@ from ebm_wear_monitor.diagnosis.conventions import Conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.speed import WINDOW_S
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
@@ -291,27 +292,41 @@ class ResidualModel:
         self.ambiguous_torque = self._ambiguous_torque()
         self.drive_torque_nominal = nominal.K_T * rec.current  # 004 eq. 7 [N m]
 
-    def _unresolved_torque(self) -> np.ndarray:
-        """Per-block uncertainty of the motor-torque integral from current changes between samples [N m].
+    def _current_jumps(self) -> np.ndarray:
+        """|dI| of each sample interval beyond three standard deviations of its noise [A] (zero otherwise)."""
+        noise = 3.0 * math.sqrt(2.0) * signal_noise(self.rec.current)
+        return np.maximum(np.abs(np.diff(self.rec.current)) - noise, 0.0)
 
-        The armature current settles within tau_e = L_a / R_a (004 eq. 8; 0.9 ms for
-        004's motor), often faster than the sample interval: at the start of a move
-        the current jumps within the first interval and the trapezoid rule does not
-        know when.  For a monotone change dI over an interval dt, the integral lies
-        within +-|dI| dt / 2 of the trapezoid value; taken as uniform, its standard
-        deviation is |dI| dt / (2 sqrt 3).  Only the part of |dI| above three
-        standard deviations of the sensor noise (sqrt 2 sigma_I per difference) counts;
-        the errors of consecutive intervals of one transient share a sign, so they
-        add linearly within a block.  This enters the block's noise, so blocks whose
-        current the sampling does not resolve weigh little instead of being dropped
-        by a threshold.
+    def _unresolved_torque(self) -> np.ndarray:
+        """Per-block uncertainty of the torque balance where the sampling does not resolve a transient [N m].
+
+        Two terms, added in quadrature.  **The current integral.**  The armature current settles
+        within tau_e = L_a / R_a (004 eq. 8; 0.9 ms for 004's motor), often faster than the sample
+        interval: at the start of a move the current jumps within the first interval and the
+        trapezoid rule does not know when.  For a monotone change dI over an interval dt, the
+        integral lies within +-|dI| dt / 2 of the trapezoid value; taken as uniform, its standard
+        deviation is |dI| dt / (2 sqrt 3).  The errors of consecutive intervals of one transient
+        share a sign, so they add linearly within a block.  **The speed at the block's ends.**  The
+        angle's speed is a regression over a window of half-length h (:mod:`.speed`); a step dA of
+        the acceleration inside the window, which a current jump dI makes (dA = K_T dI / J_me, 004
+        eq. 1), biases that speed by up to dA h / 4: the block's J_me dw / dt_b then carries
+        J_me (dA h / 4) / dt_b at each end, i.e. K_T dI h / (4 dt_b).  Only the part of each |dI|
+        above three standard deviations of the current noise counts (sqrt 2 sigma_I per difference).
+        Both enter the block's noise, so blocks the sampling does not resolve weigh little instead of
+        being dropped by a threshold.
         """
-        rec, b = self.rec, self.blocks
-        noise = 3.0 * math.sqrt(2.0) * signal_noise(rec.current)
-        jump = np.maximum(np.abs(np.diff(rec.current)) - noise, 0.0)
+        rec, b, n = self.rec, self.blocks, self.nominal
+        jump = self._current_jumps()
         h = np.maximum(np.diff(rec.t), rec.interval("current"))
         err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
-        return self.nominal.K_T * (err[b.stop] - err[b.start]) / self._dt_block
+        integral = n.K_T * (err[b.stop] - err[b.start]) / self._dt_block
+        half = max(2, round(0.5 * WINDOW_S / rec.dt))
+        padded = np.concatenate((np.zeros(half), jump, np.zeros(half + 1)))
+        largest = np.max(np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1), axis=1)[:rec.t.size]
+        h_s = half * rec.dt
+        end = n.K_T * largest * h_s / 4.0  # torque-equivalent speed bias J_me dw at a sample [N m s]
+        speed = np.hypot(end[b.start], end[b.stop]) / self._dt_block
+        return np.hypot(integral, speed)
 
     def _ambiguous_torque(self) -> np.ndarray:
         """Per-block uncertainty of the friction where stick and slip cannot be told apart [N m].
