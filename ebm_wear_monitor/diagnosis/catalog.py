@@ -33,8 +33,9 @@ fraction of the nominal parameter it changes, metres of clearance), which
 :mod:`.tolerance` compares with the effect's detectability floor:
 
 * viscous_friction |dB| / B; load_friction |dG| / G; preload_change |dT| / T_fc;
-* efficiency_variation: the largest extra friction over the recorded speed range
-  as a fraction of the load torque, max |a_0 + a_w |w_m||;
+* efficiency_variation: how much the extra friction *varies* over the recorded speed
+  range, as a fraction of the load torque, |a_w| (w_hi - w_lo): its speed-independent
+  part a_0 is a load-friction change, so only the variation is this effect's own;
 * stribeck: the extra friction at zero speed as a fraction of T_fc, |T_S| / T_fc;
 * stiffness_nonlinearity: the change of the tangent stiffness at the recording's
   largest clamp deflection d_max, |2 k_2 d_max| / K_b;
@@ -114,8 +115,9 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
                ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),
                (0.1, 0.1 / max_speed), ((0.0, 0.0),),
-               size=lambda p: max(abs(p[0] + p[1] * w_lo), abs(p[0] + p[1] * w_hi)),
-               size_meaning="largest extra friction over the recorded speeds, fraction of the load torque",
+               size=lambda p: abs(p[1]) * (w_hi - w_lo),
+               size_meaning="variation of the extra friction over the recorded speeds, fraction of the load "
+                            "torque",
                nominal=(None, None)),
         Effect("preload_change", "preload different from design: static and Coulomb shift (004 reason 4)",
                ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * nom.T_fc,), ((0.0,),),

@@ -44,15 +44,20 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     N(0, 1) at 0.05 / K (Bonferroni over the K effects; :func:`improvement_p`);
 (b) practical: its fitted size exceeds its detectability floor, derived from the
     model-tolerance budget on this recording (:mod:`.tolerance`);
+(d) stationary: a friction effect is a property of the unit and must hold over the
+    recording: refitted on the early and on the late half of the calibration cycles, its size
+    must not differ by more than its floor (and three standard deviations) (:func:`drift_test`);
+    friction that drifts within minutes (warming grease) is outside the catalog.  Clearance
+    (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
     of the material model error, in every channel where that error is material
     (:meth:`Scorer.unexplained_share`).
 
-**Forward selection** (two effects).  After the best single effect passing (a) and
-(b), every other effect is fitted *together* with it; the second is kept when its
-addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)) and
-(b).  ``effects`` lists the selected ones; the verdict's ``effect`` is the one that
-explains more on its own.
+**Forward selection** (two effects).  After the best single effect passing (a), (b)
+and (d), every other effect is fitted *together* with it; the second is kept when its
+addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b)
+and (d).  ``effects`` lists the selected ones; the verdict's ``effect`` is the larger:
+the one that changes the twin's prediction most (:func:`contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
@@ -286,7 +291,9 @@ class Scorer:
     def unexplained_share(self, m: Model) -> dict[str, float]:
         """RMS model error beyond the sensor noise on the held-out blocks, per channel, as a share of the
         signal the channel predicts: sqrt(mean(R^2 - sigma_s^2)) over the RMS motor torque (moving
-        blocks) and over the RMS clamp force (released blocks in contact).
+        blocks) and over the RMS clamp force (released blocks in contact), both means weighted by
+        sigma_s^-4 (the inverse variance of R^2 - sigma_s^2 under noise alone: a block whose sensor
+        noise is large, a transient the sampling does not resolve, says little about the model).
 
         sigma_s is the block noise propagated from the sensors alone: the residual-based scale-up of
         :meth:`build` may take a model error for coloured noise, and must not hide it here.
@@ -302,8 +309,10 @@ class Scorer:
             if rows.sum() < 2:
                 out[ch] = 0.0
                 continue
-            excess = float(np.mean((zc[rows] * sigma[rows]) ** 2 - sensor[rows] ** 2))
-            out[ch] = float(np.sqrt(max(excess, 0.0)) / max(np.sqrt(np.mean(ref[rows] ** 2)), 1e-12))
+            w = sensor[rows] ** -4.0  # inverse variance of R^2 - sigma_s^2 under noise alone
+            excess = float(np.sum(w * ((zc[rows] * sigma[rows]) ** 2 - sensor[rows] ** 2)) / np.sum(w))
+            scale = float(np.sqrt(np.sum(w * ref[rows] ** 2) / np.sum(w)))
+            out[ch] = float(np.sqrt(max(excess, 0.0)) / max(scale, 1e-12))
         return out
 
     def misfit_p(self, m: Model) -> float:
@@ -427,15 +436,21 @@ def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, .
     return ~own & ~moves, own
 
 
-def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = ()) -> Fit:
-    """Fit ``effect`` with its channels' nuisances and the free tolerances on the calibration cycles."""
+def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = (), *,
+        mask: np.ndarray | None = None, only_effect: bool = False) -> Fit:
+    """Fit ``effect`` with its channels' nuisances and the free tolerances on the calibration cycles.
+
+    ``mask`` fits on other blocks; ``only_effect`` keeps the nuisances and tolerances of ``start``.
+    """
     channels = effect.channels
-    specs = [n for ch in channels for n in sc.nuisances[ch]]
+    specs = [] if only_effect else [n for ch in channels for n in sc.nuisances[ch]]
     k, m = effect.k, len(specs)
     names = [n.name for n in specs]
-    mask = sc.split.calibration
+    mask = sc.split.calibration if mask is None else mask
     rows = sc.rows(mask, channels)
     free, own = _free_tolerances(sc, effect.name.split("+"), channels)
+    if only_effect:
+        free, own = np.zeros_like(free), np.zeros_like(own)
     D = sc.D[rows][:, free]
     t_fixed = np.where(free | own, 0.0, start.t)
     fixed_part = sc.D[rows] @ t_fixed
@@ -539,7 +554,13 @@ class EffectFit:
     size_std: float = 0.0
     floor: float = 0.0  # detectability floor of the size (:mod:`.tolerance`)
     share: dict[str, float] = field(default_factory=dict)  # unexplained share per channel with the effect
+    contribution: float = 0.0  # RMS change of the channel's prediction, share of its RMS signal
+    drift: dict | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
     ties: list[str] = field(default_factory=list)
+
+    @property
+    def drifting(self) -> bool:
+        return bool(self.drift and self.drift["drifting"])
 
     @property
     def augment(self) -> Augment:
@@ -554,7 +575,7 @@ class EffectFit:
         e = self.effect
         return {
             "effect": e.name, "score": self.score, "gap_after": self.gap_after, "shrink": self.shrink,
-            "p_value": self.p_value, "k": e.k, "material": self.material,
+            "p_value": self.p_value, "k": e.k, "material": self.material, "drift": self.drift,
             "size": {"value": self.size, "std": self.size_std, "unit": e.size_unit, "meaning": e.size_meaning,
                      "floor": self.floor},
             "magnitude": e.magnitude(self.theta, self.stderr),
@@ -589,7 +610,28 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     ef.size_std = _size_std(effect, f.theta, f.stderr)
     ef.floor = tolerance.FLOORS.get(effect.name, 0.0)
     ef.share = sc.unexplained_share(f.model)
+    ef.contribution = contribution(sc, effect, f.theta)
     return ef
+
+
+def contribution(sc: Scorer, effect: Effect, theta: np.ndarray) -> float:
+    """How much an effect changes the twin's prediction: the RMS change, over the blocks of its channel
+    (moving blocks for the torque, released contact blocks for the force), as a share of that channel's
+    RMS signal (motor torque, clamp force); the largest over its channels.  This is what "largest"
+    means when the verdict names one of two effects: the one that moves the twin's output most."""
+    mdl, b = sc.model, sc.model.blocks
+    aug = _merge(NOMINAL, effect.to_augment(theta), {})
+    out = 0.0
+    if "torque" in effect.channels:
+        rows = b.moving
+        d = mdl.torque_residual(NOMINAL)[rows] - mdl.torque_residual(aug)[rows]
+        out = max(out, float(np.sqrt(np.mean(d * d)) / max(np.sqrt(np.mean(mdl.drive_block()[rows] ** 2)), 1e-12)))
+    if "force" in effect.channels:
+        rows = sc.valid(np.ones(b.size, bool), "force") & (b.force > mdl.seg.force_rise)
+        if rows.any():
+            d = mdl.force_residual(NOMINAL)[rows] - mdl.force_residual(aug)[rows]
+            out = max(out, float(np.sqrt(np.mean(d * d)) / max(np.sqrt(np.mean(b.force[rows] ** 2)), 1e-12)))
+    return out
 
 
 def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
@@ -643,10 +685,10 @@ class Ranking:
 
     @property
     def effect(self) -> EffectFit | None:
-        """The verdict's effect: of the selected ones, the one that explains more alone."""
+        """The verdict's effect: of the selected ones, the largest (:attr:`EffectFit.contribution`)."""
         if self.verdict != "effect":
             return None
-        return max(self.selected, key=lambda f: f.score)
+        return max(self.selected, key=lambda f: f.contribution)
 
 
 def nominal_sse(sc: Scorer) -> np.ndarray:
@@ -655,8 +697,41 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
 
 
 def _supported(sc: Scorer, f: EffectFit, level: float) -> bool:
-    """Tests (a) and (b) of the module docstring."""
-    return f.material and f.p_value < level and f.score > 0.0 and sc.misfit_p(f.model) < ALPHA
+    """Tests (a), (b) and (d) of the module docstring."""
+    if not (f.material and f.p_value < level and f.score > 0.0 and sc.misfit_p(f.model) < ALPHA):
+        return False
+    f.drift = drift_test(sc, f)
+    return not f.drifting
+
+
+#: effects whose size may change within a recording: clearance grows with wear, a sensor drifts with
+#: temperature; the friction effects are properties of the unit that must hold over the recording
+MAY_DRIFT = frozenset({"clearance_growth", "force_sensor_bias", "stiffness_nonlinearity"})
+
+
+def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
+    """Does a friction effect hold over the recording?  Refit on the early and the late half (module doc).
+
+    The calibration cycles are split at their median time; the effect's parameters alone are refitted
+    on each half (nuisances and tolerances as fitted on all).  The effect drifts when its size differs
+    between the halves by more than its floor and by more than three standard deviations.
+    """
+    if f.effect.name in MAY_DRIFT or f.effect.k == 0:
+        return None
+    cal = sc.split.calibration
+    cycles = np.unique(sc.model.blocks.cycle[cal])
+    if cycles.size < 4:
+        return None
+    cut = np.median(cycles)
+    sizes, errs = [], []
+    for half in (cycles[cycles <= cut], cycles[cycles > cut]):
+        mask = cal & np.isin(sc.model.blocks.cycle, half)
+        g = fit(sc, f.effect, f.model, mask=mask, only_effect=True)
+        sizes.append(float(f.effect.size(g.theta)))
+        errs.append(_size_std(f.effect, g.theta, g.stderr))
+    diff, sd = sizes[1] - sizes[0], float(np.hypot(*errs))
+    drifting = abs(diff) > f.floor and abs(diff) > 3.0 * sd
+    return {"early": sizes[0], "late": sizes[1], "std": sd, "drifting": bool(drifting)}
 
 
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
@@ -719,9 +794,13 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
             continue
         theta2, se2 = pair.theta[k1:], pair.stderr[k1:]
         second = dataclasses.replace(f, theta=theta2, stderr=se2, size=float(f.effect.size(theta2)),
-                                     size_std=_size_std(f.effect, theta2, se2))
+                                     size_std=_size_std(f.effect, theta2, se2),
+                                     contribution=contribution(sc, f.effect, theta2))
         p = improvement_p(first.z_heldout, pair.z_heldout)
         ok = second.material and p < ALPHA / max(len(fits) - 1, 1) and pair.score > first.score
+        if ok:
+            second.drift = drift_test(sc, second)
+            ok = not second.drifting
         if ok and (best_pair is None or pair.score > best_pair[0].score):
             best_pair = (pair, second)
     if first is None:

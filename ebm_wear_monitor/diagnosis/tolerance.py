@@ -41,6 +41,7 @@ effect                      floor                     from the budget
 viscous_friction            10 % of B                 B +-10 %
 load_friction               3 % of G                  direction asymmetry of G, 2.93 %
 efficiency_variation        2 % of the load torque    K_T x current gain +-2 % acts on T_L alike
+                            over the speed range
 preload_change              4 % of T_fc               direction asymmetry of T_fc, 7.43 %, averaged
                                                       over both directions
 stribeck                    5 % of T_fc at zero speed half the twin's own static excess
