@@ -1,7 +1,8 @@
 """``ebm-wear diagnose``: sim-to-real gap diagnosis of recorded bags against the twin (interface.md sec. 4).
 
     ebm-wear diagnose BAG... --params P [--json OUT] [--report DIR] [--life] [--no-progress]
-    ebm-wear diagnose --selftest [--quick | --cases N] [--seed S] [--json OUT] [--no-progress]
+    ebm-wear diagnose --selftest [--quick | --cases N] [--seed S] [--jobs N] [--in-world-only] [--json OUT]
+                      [--no-progress]
 
 One result per unit (namespace) found in the bags (a unit's topics may be spread
 over several bags).  The JSON holds ``units`` (one diagnosis object each) and,
@@ -11,11 +12,9 @@ monitor core (:func:`ebm_wear_monitor.replay.run.replay_unit`) over the same sig
 duty-cycle summaries, whose observed clearance growth :mod:`ebm_wear_monitor.diagnosis.life` compares
 with the wear model's (issue 7 item 5).
 
-Input screening, as the monitor does it: a topic sampled below the contract's 100 Hz is refused
-(:func:`~ebm_wear_monitor.bagio.rates.check_rates`); samples with a non-finite stamp or value, or
-beyond the monitor's physical bounds (``absurd``: :func:`~ebm_wear_monitor.monitor.alignment.
-absurd_limits`), are dropped and counted in ``input_faults`` / ``input_faults_by_signal`` (the
-replay's keys), never fitted. The unit file needs ``ball_screw`` and ``actuator`` (and the wear
+Input screening, as the monitor does it (:mod:`ebm_wear_monitor.diagnosis.bags`): a topic sampled
+below the contract's 100 Hz is refused; non-finite or absurd samples are dropped and counted in
+``input_faults`` / ``input_faults_by_signal`` (the replay's keys), never fitted. The unit file needs ``ball_screw`` and ``actuator`` (and the wear
 model's blocks with ``--life``).
 """
 
@@ -23,8 +22,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-
-import numpy as np
 
 from ebm_wear_monitor.cli.options import add_output_options, check_outputs, progress
 from ebm_wear_monitor.errors import InputError
@@ -39,28 +36,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also the life level: the monitor core's duty-cycle summaries of the bags "
                              "(observed clearance growth) against the wear model (key 'life')")
     parser.add_argument("--selftest", action="store_true",
-                        help="blind self-test on twin recordings with withheld effects")
+                        help="blind self-test with withheld effects: the twin's own recordings and an "
+                             "independently written generator's bags (the 'foreign' key)")
+    parser.add_argument("--in-world-only", action="store_true",
+                        help="self-test: only the twin's own recordings (no foreign world)")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N",
+                        help="self-test: diagnose the foreign cases on N processes (default 1)")
     parser.add_argument("--quick", action="store_true", help="self-test: reduced case set (CI)")
     parser.add_argument("--cases", type=int, metavar="N", help="self-test: at most N cases")
     parser.add_argument("--seed", type=int, default=0, help="self-test: base random seed")
-
-
-def screen(signals: dict, limits: dict[str, float]) -> tuple[dict, dict[str, dict[str, int]]]:
-    """Drop and count unusable samples: ``{signal: (stamps, values)}`` kept, ``{signal: {kind: n}}``.
-
-    ``non_finite``: stamp or value NaN/inf; ``absurd``: |value| above ``limits[signal]`` (signals
-    without a limit, the motor current, are only checked for finiteness).
-    """
-    kept, faults = {}, {}
-    for name, (stamps, values) in signals.items():
-        stamps, values = np.asarray(stamps, float), np.asarray(values, float)
-        finite = np.isfinite(stamps) & np.isfinite(values)
-        absurd = finite & (np.abs(values) > limits.get(name, np.inf))
-        counts = {"non_finite": int(np.count_nonzero(~finite)), "absurd": int(np.count_nonzero(absurd))}
-        faults[name] = {k: v for k, v in counts.items() if v}
-        ok = finite & ~absurd
-        kept[name] = (stamps[ok], values[ok])
-    return kept, {k: v for k, v in faults.items() if v}
 
 
 def _print_diagnosis(res: dict) -> None:
@@ -106,11 +90,14 @@ def _run_selftest(args: argparse.Namespace) -> int:
 
     if args.cases is not None and args.cases < 1:
         raise InputError("--cases must be at least 1")
+    if args.jobs < 1:
+        raise InputError("--jobs must be at least 1")
     with progress(args, None, "self-test", "case") as bar:
         def on_case(done: int, total: int) -> None:
             bar.total = total
             bar.update(done - bar.n)
-        result = run_selftest(quick=args.quick, max_cases=args.cases, seed=args.seed, on_case=on_case)
+        result = run_selftest(quick=args.quick, max_cases=args.cases, seed=args.seed, on_case=on_case,
+                              foreign=not args.in_world_only, jobs=args.jobs)
     print(format_summary(result))
     if args.json:
         write_json(args.json, result)
@@ -127,33 +114,22 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("no BAG given (or use --selftest)")
     if not args.params:
         raise InputError("--params P is required to build the twin")
-    from ebm_wear_monitor.bagio import bag_message_count, read_bags
-    from ebm_wear_monitor.bagio.rates import check_rates
-    from ebm_wear_monitor.diagnosis import recording_from_signals
+    from ebm_wear_monitor.bagio import bag_message_count
+    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
     from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state
-    from ebm_wear_monitor.diagnosis.recording import SIGNALS
-    from ebm_wear_monitor.monitor import MonitorConfig
-    from ebm_wear_monitor.monitor.alignment import absurd_limits
     from ebm_wear_monitor.params import ACTUATOR_BLOCKS, WEAR_BLOCKS, load_unit
 
     unit = load_unit(args.params, ACTUATOR_BLOCKS + (WEAR_BLOCKS if args.life else ()))
     with progress(args, bag_message_count(args.bags), "read", "msg") as bar:
-        data = read_bags([Path(b) for b in args.bags], progress=bar.update)
-    if not data.units:
-        raise InputError("no unit with input topics found in the bags")
-    limits = absurd_limits(MonitorConfig())
+        units = recordings_from_bags(args.bags, progress=bar.update)
     results, states = [], []
-    with progress(args, len(data.units), "diagnose", "unit") as bar:
-        for name, ud in sorted(data.units.items()):
-            check_rates(ud, SIGNALS)
-            signals, faults = screen({k: (s.stamps, s.values) for k, s in ud.signals.items()}, limits)
-            rec = recording_from_signals(signals, unit=name)
-            res, sc, ranking = diagnose_with_state(rec, unit)
-            res["input_faults_by_signal"] = faults
-            res["input_faults"] = {k: sum(f.get(k, 0) for f in faults.values())
-                                   for k in sorted({k for f in faults.values() for k in f})}
+    with progress(args, len(units), "diagnose", "unit") as bar:
+        for ur in units.values():
+            res, sc, ranking = diagnose_with_state(ur.recording, unit)
+            res["input_faults_by_signal"] = ur.faults
+            res["input_faults"] = ur.fault_totals
             if args.life:
-                res["life"] = _life(ud, unit)
+                res["life"] = _life(ur.data, unit)
             results.append(res)
             states.append((res, sc, ranking))
             bar.update()

@@ -42,8 +42,8 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     effect acts (weighted chi-square, :meth:`Scorer.misfit_p`), and the held-out
     improvement is significant, U = (S_before - S_after) / (2 |delta|) against
     N(0, 1) at 0.05 / K (Bonferroni over the K effects; :func:`improvement_p`);
-(b) practical: its fitted size exceeds its detectability floor, derived from the
-    model-tolerance budget on this recording (:mod:`.tolerance`);
+(b) practical: its fitted size exceeds its detectability floor (:mod:`.tolerance`, from
+    the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor;
 (d) stationary: a friction effect is a property of the unit and must hold over the
     recording: refitted on the early and on the late half of the calibration cycles, its size
     must not differ by more than its floor (and three standard deviations) (:func:`drift_test`);
@@ -105,6 +105,7 @@ ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
 METRIC = "excess_rms_over_noise"
+MATERIAL_Z = 1.6448536269514722  # one-sided 95 % normal quantile: an effect exceeds its floor with confidence
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
 FORCE_LAG_S = 5e-3  # largest first-order lag of the force reading considered [s]
 
@@ -568,8 +569,9 @@ class EffectFit:
 
     @property
     def material(self) -> bool:
-        """Its size exceeds its detectability floor (practical significance)."""
-        return self.size > self.floor
+        """Its size exceeds its detectability floor with 95 % confidence (practical significance):
+        size - 1.645 std > floor."""
+        return self.size - MATERIAL_Z * self.size_std > self.floor
 
     def as_dict(self) -> dict:
         e = self.effect

@@ -83,7 +83,7 @@ def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
     Signal names are those of interface.md section 4 (``angle``, ``velocity``,
     ``axial_force``, ``current``; topics in :data:`TOPIC_OF`); all four are needed
     (the twin is driven by the recorded motor current).  Signals are interpolated
-    linearly onto the stamps of ``angle`` within the span common to all.
+    linearly onto the stamps of ``angle`` within the span common to angle, force and current.
     """
     series = {}
     for name, topic in TOPIC_OF.items():
@@ -93,8 +93,11 @@ def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
         series[name] = _clean(*signals[name])
         if series[name][0].size < 2:
             raise InputError(f"{unit}: topic '{topic}' has fewer than 2 valid samples")
-    lo = max(s[0][0] for s in series.values())
-    hi = min(s[0][-1] for s in series.values())
+    # the span is that of the signals the model uses; the recorded velocity is only compared with the
+    # angle's own speed (:mod:`.conventions`), held at its ends where it stops early
+    used = [series[name] for name in SIGNALS if name != "velocity"]
+    lo = max(s[0][0] for s in used)
+    hi = min(s[0][-1] for s in used)
     base = series["angle"][0]
     base = base[(base >= lo) & (base <= hi)]
     if base.size < 2:

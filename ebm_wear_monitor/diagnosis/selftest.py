@@ -168,14 +168,22 @@ def simulate_case(unit: UnitParams, case: Case) -> Recording:
 
 def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 0,
                  unit: UnitParams | None = None,
-                 on_case: Callable[[int, int], object] | None = None) -> dict:
+                 on_case: Callable[[int, int], object] | None = None, *, foreign: bool = True,
+                 jobs: int = 1) -> dict:
     """Run the blind self-test; returns the JSON object of interface.md section 4 (plus details).
 
-    ``seed`` shifts every case's noise seed (a different draw of the same case set).
-    ``on_case(done, total)`` is called after each case (progress bars).
+    The in-world set's scores are at the top level (today's keys); with ``foreign`` the scores of
+    the foreign world (:mod:`.foreign_selftest`) are under ``"foreign"``, run on ``jobs`` processes.
+    ``seed`` shifts every in-world case's noise seed (a different draw of the same case set);
+    ``max_cases`` limits each set.  ``on_case(done, total)`` is called after each case of both sets.
     """
+    from ebm_wear_monitor.diagnosis.foreign_selftest import run_foreign
+    from ebm_wear_monitor.validation.foreign import case_set as foreign_cases
+
     unit = load_unit() if unit is None else unit
     cases = case_set(quick)[:max_cases]
+    n_foreign = len(foreign_cases("quick" if quick else "full")[:max_cases]) if foreign else 0
+    total = len(cases) + n_foreign
     rows = []
     t0 = time.perf_counter()
     for case in cases:
@@ -195,8 +203,14 @@ def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 
             "where": [res["where"]["phase"], res["where"]["signal"]],
         })
         if on_case is not None:
-            on_case(len(rows), len(cases))
-    return summarise(rows, time.perf_counter() - t0)
+            on_case(len(rows), total)
+    result = summarise(rows, time.perf_counter() - t0)
+    if foreign:
+        done = len(rows)
+        result["foreign"] = run_foreign(
+            quick, max_cases, jobs, unit,
+            None if on_case is None else lambda k, _n: on_case(done + k, total))
+    return result
 
 
 def summarise(rows: list[dict], seconds: float) -> dict:
@@ -235,31 +249,50 @@ def summarise(rows: list[dict], seconds: float) -> dict:
     }
 
 
-def format_summary(result: dict) -> str:
-    """Human-readable confusion matrix and scores."""
-    lines = [f"self-test: {result['cases']} cases in {result['seconds']:.1f} s "
-             f"({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz each)"]
-    # columns numbered, names in full on the rows (the same number for the same name: the diagonal)
-    diag = sorted({d for row in result["confusion"].values() for d in row})
-    names = sorted(set(diag) | set(result["confusion"]))
+def confusion_lines(confusion: dict[str, dict[str, int]]) -> list[str]:
+    """A confusion matrix as text: columns numbered, names in full on the rows (same number, same name)."""
+    diag = sorted({d for row in confusion.values() for d in row})
+    names = sorted(set(diag) | set(confusion))
     key = {n: f"[{i + 1}]" for i, n in enumerate(names)}
     width = max(len(n) for n in names) + 6
-    lines.append("true \\ diagnosed".ljust(width) + " ".join(f"{key[d]:>5s}" for d in diag))
-    for t, row in sorted(result["confusion"].items()):
+    lines = ["true \\ diagnosed".ljust(width) + " ".join(f"{key[d]:>5s}" for d in diag)]
+    for t, row in sorted(confusion.items()):
         lines.append(f"{t + ' ' + key[t]:<{width}s}" + " ".join(f"{row.get(d, 0):>5d}" for d in diag))
     lines.append("columns: " + ", ".join(f"{key[d]} {d}" for d in diag))
+    return lines
 
-    def pct(v: float | None) -> str:
-        return "n/a" if v is None else f"{100 * v:.1f} %"
 
-    lines.append(f"top-1 accuracy (effects >= 10 %): {pct(result['top1_accuracy'])}   "
-                 f"top-2: {pct(result['top2_accuracy'])}   all magnitudes top-1: "
-                 f"{pct(result['top1_accuracy_all_magnitudes'])}")
-    lines.append(f"false-positive rate (no-effect cases): {pct(result['false_positive_rate'])}   "
-                 f"median held-out shrink: {pct(result['median_shrink'])}")
+def _pct(v: float | None) -> str:
+    return "n/a" if v is None else f"{100 * v:.1f} %"
+
+
+def format_summary(result: dict) -> str:
+    """Human-readable confusion matrices and scores of both worlds."""
+    lines = [f"in-world self-test (the twin's own recordings): {result['cases']} cases in "
+             f"{result['seconds']:.1f} s ({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz each)"]
+    lines += confusion_lines(result["confusion"])
+    lines.append(f"top-1 accuracy (effects >= 10 %): {_pct(result['top1_accuracy'])}   "
+                 f"top-2: {_pct(result['top2_accuracy'])}   all magnitudes top-1: "
+                 f"{_pct(result['top1_accuracy_all_magnitudes'])}")
+    lines.append(f"false-positive rate (no-effect cases): {_pct(result['false_positive_rate'])}   "
+                 f"median held-out shrink: {_pct(result['median_shrink'])}")
     fp = sorted(result["false_positives_by_source"].items())
     lines.append("false positives by source: " + ", ".join(
         f"{k} {v['false_positives']}/{v['cases']}" for k, v in fp))
     lines.append("top-1 by source (effects >= 10 %): " + ", ".join(
-        f"{k} {pct(v)}" for k, v in result["top1_accuracy_by_source"].items()))
+        f"{k} {_pct(v)}" for k, v in result["top1_accuracy_by_source"].items()))
+    f = result.get("foreign")
+    if f is not None:
+        c = f["counts"]
+        lines += ["", f"foreign-world self-test (an independent generator, read from bags on disk): {f['cases']} "
+                      f"cases in {f['seconds']:.1f} s ({c['none']} no-effect, {c['single']} single-effect of which "
+                      f"{c['single_small']} below 10 %, {c['pairs']} two-effect, {c['outside']} outside the catalog)"]
+        lines += confusion_lines(f["confusion"])
+        lines.append(f"top-1 accuracy (single effects >= 10 %): {_pct(f['top1_accuracy'])}   "
+                     f"(5-10 %: {_pct(f['top1_accuracy_small'])})   top-2: {_pct(f['top2_accuracy'])}")
+        lines.append(f"false-positive rate (no-effect cases): {_pct(f['false_positive_rate'])}   "
+                     f"median held-out shrink: {_pct(f['median_shrink'])}")
+        lines.append(f"outside the catalog reported unexplained: {_pct(f['unexplained_accuracy'])}   catalog "
+                     f"effects reported unexplained: {_pct(f['catalog_unexplained_rate'])}   both of two named: "
+                     f"{_pct(f['pair_accuracy'])}")
     return "\n".join(lines)

@@ -1,0 +1,148 @@
+"""Blind self-test on recordings of a world the diagnosis was not built from (issue 10 item 1).
+
+The recordings come from :mod:`ebm_wear_monitor.validation.foreign`, a second generator written
+independently of the twin and of the diagnosis (its own plant integration, three ECU variants, its
+own sensor models and acquisition conventions, each catalog effect in two functional forms that
+differ from the catalog's, four effects outside the catalog).  Each case is written as a rosbag2
+bag to a temporary directory and diagnosed from disk like any user's bag
+(:func:`.bags.recordings_from_bags`), against the *nominal* unit file; the answer is then compared
+with the bag's ``ground_truth.json``.
+
+Scores (the in-world self-test's keys, plus those of the open set):
+
+* ``top1_accuracy``: single-effect cases whose effect changes its quantity by at least 10 % (the
+  generator's relative change): the verdict names the true effect;
+  ``top1_accuracy_small``: the same for the 5-10 % cases, below or near some floors
+  (:mod:`.tolerance`), reported apart;
+* ``top2_accuracy``: a true effect among the two best-ranked (single and two-effect cases);
+* ``false_positive_rate``: verdict other than ``none`` on a no-effect recording;
+* ``median_shrink``: 1 - gap_after / gap_before over the single- and two-effect cases;
+* ``unexplained_accuracy``: effects outside the catalog reported ``unexplained``;
+  ``catalog_unexplained_rate``: catalog cases (single and two-effect) reported ``unexplained``;
+* ``pair_accuracy``: two-effect cases with both effects named (``effects``);
+* ``confusion``: true label -> answer (the named effect, ``none`` or ``unexplained``).
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+
+from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.params import UnitParams, load_unit
+
+SMALL = 0.1  # single-effect cases below this relative change are scored apart (``top1_accuracy_small``)
+
+
+def _truth(bag: Path) -> dict:
+    """What the generator put into one recording (its sidecar), in the scorer's terms."""
+    gt = json.loads((bag / "ground_truth.json").read_text(encoding="utf-8"))
+    unit, entry = next(iter(gt["units"].items()))
+    foreign = entry["foreign"]
+    effects = entry.get("effects") or {}
+    return {"unit": unit, "kind": foreign["kind"], "truth": sorted(effects),
+            "relative_change": {k: v.get("relative_change") for k, v in effects.items()},
+            "outside": sorted(d["name"] for d in foreign.get("effects_detail", []) if not d.get("catalog"))}
+
+
+def diagnose_case(case: object, workdir: str, unit: UnitParams | None = None) -> dict:
+    """Write one foreign case as a bag, diagnose it from disk, and score the answer against its truth."""
+    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
+    from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
+    from ebm_wear_monitor.validation.foreign import write_case
+
+    unit = load_unit() if unit is None else unit
+    t0 = time.perf_counter()
+    bag = Path(write_case(case, Path(workdir)))
+    truth = _truth(bag)
+    try:
+        rec = recordings_from_bags([bag])[truth["unit"]].recording
+        res = diagnose_recording(rec, unit)
+    except InputError as exc:  # a recording the diagnosis refuses is a failed case, not an aborted test
+        return {"case": bag.name, "kind": truth["kind"], "true": "+".join(truth["truth"]) or truth["kind"],
+                "effects_true": truth["truth"], "relative_change": truth["relative_change"],
+                "verdict": "error", "diagnosed": "error", "error": str(exc), "effects": [], "top2": [],
+                "gap_before": 0.0, "gap_after": 0.0, "shrink": 0.0, "top1_ok": False, "top2_ok": False,
+                "pair_ok": False, "where": [None, None], "seconds": time.perf_counter() - t0}
+    ranked = [r["effect"] for r in res["ranking"]]
+    expected = set(truth["truth"])
+    kind = truth["kind"]
+    answer = res["effect"] if res["verdict"] == "effect" else res["verdict"]
+    return {
+        "case": bag.name, "kind": kind, "true": "+".join(truth["truth"]) or ("none" if kind == "none"
+                                                                             else "+".join(truth["outside"])),
+        "effects_true": truth["truth"], "relative_change": truth["relative_change"],
+        "verdict": res["verdict"], "diagnosed": answer, "effects": res["effects"], "top2": ranked[:2],
+        "gap_before": res["gap_before"], "gap_after": res["gap_after"], "shrink": res["shrink"],
+        "top1_ok": bool(expected) and res["effect"] in expected,
+        "top2_ok": bool(expected) and bool(expected & set(ranked[:2])),
+        "pair_ok": kind == "pair" and set(res["effects"]) == expected,
+        "where": [res["where"]["phase"], res["where"]["signal"]],
+        "seconds": time.perf_counter() - t0,
+    }
+
+
+def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1,
+                unit: UnitParams | None = None, on_case: Callable[[int, int], object] | None = None) -> dict:
+    """The foreign-world self-test: every case of the generator's quick or full set (module docstring)."""
+    from ebm_wear_monitor.validation.foreign import case_set
+
+    cases = case_set("quick" if quick else "full")[:max_cases]
+    rows: list[dict] = []
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="ebm-foreign-") as tmp:
+        if jobs <= 1:
+            for case in cases:
+                rows.append(diagnose_case(case, tmp, unit))
+                if on_case is not None:
+                    on_case(len(rows), len(cases))
+        else:
+            with ProcessPoolExecutor(jobs) as pool:
+                futures = [pool.submit(diagnose_case, case, tmp, unit) for case in cases]
+                for fut in as_completed(futures):
+                    rows.append(fut.result())
+                    if on_case is not None:
+                        on_case(len(rows), len(cases))
+    rows.sort(key=lambda r: r["case"])
+    return score(rows, time.perf_counter() - t0)
+
+
+def score(rows: list[dict], seconds: float) -> dict:
+    """Scores of the foreign self-test rows (module docstring)."""
+    def rate(sel: list[dict], ok: Callable[[dict], bool]) -> float | None:
+        return float(np.mean([ok(r) for r in sel])) if sel else None
+
+    def small(r: dict) -> bool:
+        return max(abs(v or 0.0) for v in r["relative_change"].values()) < SMALL
+
+    single = [r for r in rows if r["kind"] == "effect"]
+    pairs = [r for r in rows if r["kind"] == "pair"]
+    null = [r for r in rows if r["kind"] == "none"]
+    outside = [r for r in rows if r["kind"] == "outside"]
+    confusion: dict[str, dict[str, int]] = {}
+    for r in rows:
+        row = confusion.setdefault(r["true"], {})
+        row[r["diagnosed"]] = row.get(r["diagnosed"], 0) + 1
+    shrink = [r["shrink"] for r in single + pairs]
+    return {
+        "cases": len(rows),
+        "top1_accuracy": rate([r for r in single if not small(r)], lambda r: r["top1_ok"]),
+        "top1_accuracy_small": rate([r for r in single if small(r)], lambda r: r["top1_ok"]),
+        "top2_accuracy": rate(single + pairs, lambda r: r["top2_ok"]),
+        "false_positive_rate": rate(null, lambda r: r["verdict"] != "none"),
+        "median_shrink": float(np.median(shrink)) if shrink else None,
+        "unexplained_accuracy": rate(outside, lambda r: r["verdict"] == "unexplained"),
+        "catalog_unexplained_rate": rate(single + pairs, lambda r: r["verdict"] == "unexplained"),
+        "pair_accuracy": rate(pairs, lambda r: r["pair_ok"]),
+        "counts": {"none": len(null), "single": len(single), "single_small": sum(map(small, single)),
+                   "pairs": len(pairs), "outside": len(outside)},
+        "confusion": confusion,
+        "seconds": seconds,
+        "case_results": rows,
+    }
