@@ -36,7 +36,9 @@ fraction of the nominal parameter it changes, metres of clearance), which
 * efficiency_variation: how much the extra friction *varies* over the recorded speed
   range, as a fraction of the load torque, |a_w| (w_hi - w_lo): its speed-independent
   part a_0 is a load-friction change, so only the variation is this effect's own;
-* stribeck: the extra friction at zero speed as a fraction of T_fc, |T_S| / T_fc;
+* stribeck: how much the extra friction falls from zero speed to the top recorded speed, as a
+  fraction of T_fc, |T_S| (1 - exp(-(w_hi / w_S)^2)) / T_fc: an extra friction that does not fall
+  within the recorded speeds is a preload change, so only the fall is this effect's own;
 * stiffness_nonlinearity: the change of the tangent stiffness at the recording's
   largest clamp deflection d_max, |2 k_2 d_max| / K_b;
 * clearance_growth: |dx| [m]; force_sensor_bias: |g| (a fraction of the reading).
@@ -128,7 +130,8 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
                lambda p: Augment(stribeck_torque=p[0], stribeck_speed=p[1]),
                (0.1 * nom.T_fc, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
                (-np.inf, 0.2), (np.inf, 2.0 * max_speed),
-               size=lambda p: abs(p[0]) / nom.T_fc, size_meaning="extra friction at zero speed, fraction of T_fc",
+               size=lambda p: abs(p[0]) * (1.0 - np.exp(-((w_hi / p[1]) ** 2))) / nom.T_fc,
+               size_meaning="fall of the extra friction from zero to the top recorded speed, fraction of T_fc",
                nominal=(("T_fc", nom.T_fc), None)),
         Effect("stiffness_nonlinearity", "clamp stiffness growing with force (004 eq. 5 progressive)",
                ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * nom.K_b / d_max,),

@@ -100,7 +100,7 @@ def describe(f: EffectFit) -> str:
 
 def summary(ranking: Ranking) -> str:
     """The verdict in plain words."""
-    gap = f"held-out gap {ranking.gap_before:.2f} x noise within tolerance"
+    gap = f"held-out gap {ranking.gap_before:.2f} x noise"
     if ranking.verdict == "effect":
         parts = [describe(f) for f in sorted(ranking.selected, key=lambda f: -f.score)]
         joint = ranking.joint
@@ -110,8 +110,8 @@ def summary(ranking: Ranking) -> str:
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
                 "the catalog is likely.")
-    return (f"The twin explains the recording within its tolerance ({gap}); no effect is both significant "
-            "and above its detectability floor.")
+    return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} within "
+            "tolerance); no effect is both significant and above its detectability floor.")
 
 
 def nuisance_report(sc: Scorer) -> dict[str, dict]:
@@ -158,7 +158,7 @@ def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[dict, S
         "where": where_table(sc, sc.base),
         "where_after": where_table(sc, explained.model) if explained is not None else None,
         "gap_before": ranking.gap_before,
-        "gap_nominal": ranking.gap_nominal,
+        "gap_tolerance": ranking.gap_tolerance,
         "gap_after": gap_after,
         "shrink": shrink(ranking.gap_before, gap_after),
         "shrink_needed": SHRINK_NEEDED,

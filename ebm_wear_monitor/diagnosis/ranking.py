@@ -31,22 +31,31 @@ cluster-robust (sandwich) covariance with brake cycles as clusters,
 (J'J)^-1 (sum_c J_c' z_c z_c' J_c) (J'J)^-1.
 
 **Held-out gap.**  ``metric`` = ``excess_rms_over_noise``: over the held-out blocks,
-gap = sqrt(max(mean(z^2) - 1, 0)), the RMS model error in units of the noise.
+gap = sqrt(max(mean(z^2) - 1, 0)), the RMS model error in units of the noise.  ``gap_before``
+is the nominal twin's (as given, nuisances fitted), ``gap_after`` that of the explaining model
+(its effects, nuisances and tolerance deviations); the gap of W alone is ``gap_tolerance``.
 Torque rows of blocks at rest are left out of the gap (their stick-branch residual
 is zero by construction).  **Score** (ranking) = (S_before - S_after - 2k) / S_before
 with S the held-out sum of z^2 and k the effect's parameter count.
 
 **Three tests for an effect to count** (issue 10, items 3-5):
 
-(a) statistical: the nominal twin's held-out residual exceeds the noise where the
-    effect acts (weighted chi-square, :meth:`Scorer.misfit_p`), and the held-out
-    improvement is significant, U = (S_before - S_after) / (2 |delta|) against
-    N(0, 1) at 0.05 / K (Bonferroni over the K effects; :func:`improvement_p`);
+(a) statistical: the held-out improvement is significant.  The correction an effect
+    makes, delta = z_before - z_after on the held-out rows, is fixed by the calibration
+    cycles; with held-out noise z ~ N(0, 1) independent of it, S_before - S_after =
+    2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when the effect is
+    absent.  U = (S_before - S_after) / (2 |delta|) is thus at most standard normal under
+    "absent", and the effect passes when its one-sided p-value is below 0.05 / K
+    (Bonferroni over the K effects tried; :func:`improvement_p`).  (A goodness-of-fit test of
+    the before model where the effect acts was tried as a second guard: against the twin
+    within its tolerance it rejected a +100 % viscous change on the twin's own data; the
+    practical test (b) is the guard against significant but immaterial structure.)
 (b) practical: its fitted size exceeds its detectability floor (:mod:`.tolerance`, from
     the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor;
 (d) stationary: a friction effect is a property of the unit and must hold over the
     recording: refitted on the early and on the late half of the calibration cycles, its size
-    must not differ by more than its floor (and three standard deviations) (:func:`drift_test`);
+    must not differ by more than its floor, three standard deviations and half of itself
+    (:func:`drift_test`);
     friction that drifts within minutes (warming grease) is outside the catalog.  Clearance
     (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
@@ -156,7 +165,7 @@ def nuisance_specs(model: ResidualModel) -> dict[str, tuple[Nuisance, ...]]:
     return {
         "torque": (Nuisance("current_shift", -h_i, h_i, 0.5 * h_i, (-0.5 * h_i, 0.0, 0.5 * h_i)),
                    Nuisance("current_offset", -np.inf, np.inf, i_scale, (0.0,)),
-                   Nuisance("load_shift", -0.5 * dt, 0.5 * dt, 0.25 * dt, (0.0, -0.25 * dt))),
+                   Nuisance("load_shift", -dt, dt, 0.25 * dt, (0.0, -0.25 * dt))),
         "force": (Nuisance("force_skew", -h_f, h_f, 1e-3, (0.0, 1e-3, -1e-3)),
                   Nuisance("force_lag", 0.0, FORCE_LAG_S, 1e-3, (0.0, 1e-3))),
     }
@@ -315,23 +324,6 @@ class Scorer:
             scale = float(np.sqrt(np.sum(w * ref[rows] ** 2) / np.sum(w)))
             out[ch] = float(np.sqrt(max(excess, 0.0)) / max(scale, 1e-12))
         return out
-
-    def misfit_p(self, m: Model) -> float:
-        """p-value of "the twin within its tolerance fits the held-out data within the noise where ``m``
-        acts".
-
-        Weighted mean square Q = sum(w z^2) / sum(w) with w = delta^2, delta the change of z
-        that ``m`` makes on each held-out gap row.  Under noise alone (z ~ N(0, 1) independent of
-        the weights, which come from the calibration cycles) Q nu ~ chi^2(nu) with Satterthwaite's
-        nu = (sum w)^2 / sum w^2.
-        """
-        z = self.gap_rows(self.base)
-        w = (z - self.gap_rows(m)) ** 2
-        if not np.any(w > 0.0):
-            return 1.0
-        nu = w.sum() ** 2 / np.sum(w * w)
-        q = float(np.sum(w * z * z) / w.sum())
-        return float(stats.chi2.sf(q * nu, nu))
 
 
 def block_noise(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
@@ -669,10 +661,9 @@ class Ranking:
     selected: list[EffectFit]  # forward selection: the effects the data support, in order of selection
     joint: EffectFit | None  # the selected effects fitted together (None when none is selected)
     best_pair_shrink: float  # largest share of the material gap a single effect or greedy pair closes
-    gap_before: float  # held-out gap of the twin within its tolerance, W
-    gap_nominal: float  # held-out gap of the nominal twin (nuisances fitted, no tolerance deviation)
+    gap_before: float  # held-out gap of the nominal twin as given (nuisances fitted, no tolerance deviation)
+    gap_tolerance: float  # held-out gap of the twin within its tolerance, W
     unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer.unexplained_share)
-    misfit_p: float  # chi-square p-value of W on held-out data where the top effect acts
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
 
@@ -700,11 +691,16 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
 
 def _supported(sc: Scorer, f: EffectFit, level: float) -> bool:
     """Tests (a), (b) and (d) of the module docstring."""
-    if not (f.material and f.p_value < level and f.score > 0.0 and sc.misfit_p(f.model) < ALPHA):
+    if not (f.material and f.p_value < level and f.score > 0.0):
         return False
     f.drift = drift_test(sc, f)
     return not f.drifting
 
+
+#: a friction effect drifts when its early and late sizes differ by more than this share of the larger: a
+#: real effect's form differs from the catalog's, so its fitted size depends on the operating mix by a
+#: fraction of itself; a drift that changes it by half is no such fraction
+DRIFT_SHARE = 0.5
 
 #: effects whose size may change within a recording: clearance grows with wear, a sensor drifts with
 #: temperature; the friction effects are properties of the unit that must hold over the recording
@@ -716,7 +712,8 @@ def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
 
     The calibration cycles are split at their median time; the effect's parameters alone are refitted
     on each half (nuisances and tolerances as fitted on all).  The effect drifts when its size differs
-    between the halves by more than its floor and by more than three standard deviations.
+    between the halves by more than its floor, by more than three standard deviations, and by more
+    than ``DRIFT_SHARE`` of the larger size.
     """
     if f.effect.name in MAY_DRIFT or f.effect.k == 0:
         return None
@@ -732,14 +729,14 @@ def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
         sizes.append(float(f.effect.size(g.theta)))
         errs.append(_size_std(f.effect, g.theta, g.stderr))
     diff, sd = sizes[1] - sizes[0], float(np.hypot(*errs))
-    drifting = abs(diff) > f.floor and abs(diff) > 3.0 * sd
+    drifting = abs(diff) > max(f.floor, DRIFT_SHARE * max(sizes), 3.0 * sd)
     return {"early": sizes[0], "late": sizes[1], "std": sd, "drifting": bool(drifting)}
 
 
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     """Fit every effect, rank by score, select, decide the verdict, mark near-ties with the top effect."""
     s_before = nominal_sse(sc)
-    gap_before = sc.gap(sc.base)
+    gap_before = sc.gap(Model(sc.base.aug))
     fits = sorted((evaluate(sc, e, s_before, gap_before) for e in catalog.values()), key=lambda f: -f.score)
     level = ALPHA / len(fits)
 
@@ -768,9 +765,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         verdict = "none"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
-    nominal_gap = sc.gap(Model(sc.base.aug))
-    return Ranking(fits, selected, joint, best, gap_before, nominal_gap, share, sc.misfit_p(top.model),
-                   verdict, level)
+    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level)
 
 
 def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: np.ndarray,

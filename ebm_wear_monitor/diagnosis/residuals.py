@@ -66,7 +66,8 @@ gain errors, which the torque channel (evaluated at the *recorded* force) does n
   follows the trapezoid rule used here, a drive or simulator holding the force
   over each step of length h the left rectangle, which differs from the trapezoid
   by the trapezoid of T_L read h/2 earlier.  So the load is read a further tau_M
-  in [-dt/2, dt/2] later.  The price is honest: a viscous change that acts only
+  later, within one sample interval (the quadrature's half interval, and what the force
+  channel's timing misses of the torque channel's).  The price is honest: a viscous change that acts only
   in contact, of at most K_eff dt / 2 (7 % of 004's B at 1 kHz), is not separable
   from the quadrature rule; a viscous effect is identified by what it does outside
   contact (clearance elimination, the end of the release).

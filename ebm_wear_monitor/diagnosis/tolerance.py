@@ -33,7 +33,8 @@ enters the fits as a fixed response column (:func:`responses`), not a re-evaluat
 
 **Detectability floors** (issue 10, practical significance).  An effect is *material*
 only when its fitted size (:mod:`.catalog`, in the unit people judge it by) exceeds
-the deviation the budget allows in that same quantity:
+the deviation the budget allows in that same quantity (the entries it is made of are held at zero
+while the effect is fitted, ``OWN``, so they are not counted twice):
 
 ==========================  ========================  ==============================================
 effect                      floor                     from the budget
@@ -44,7 +45,7 @@ efficiency_variation        2 % of the load torque    K_T x current gain +-2 % a
                             over the speed range
 preload_change              4 % of T_fc               direction asymmetry of T_fc, 7.43 %, averaged
                                                       over both directions
-stribeck                    5 % of T_fc at zero speed half the twin's own static excess
+stribeck                    5 % of T_fc, its fall     half the twin's own static excess
                                                       (T_fs - T_fc = 10.7 % of T_fc)
 stiffness_nonlinearity      3 % of K_b                K_b +-3 %
 clearance_growth            5 um                      x_ag +-5 um
@@ -84,8 +85,13 @@ BUDGET: tuple[Tolerance, ...] = (
     Tolerance("load_cell", lambda n: Augment(force_gain=0.01), "load-cell gain +-1 %: class 0.5"),
 )
 
-#: effect -> the budget entry in its own quantity (not a tolerance while that effect is fitted)
-OWN = {"viscous_friction": "viscous", "clearance_growth": "clearance", "force_sensor_bias": "load_cell"}
+#: effect -> the budget entries its floor is made of (module docstring's second table): held at zero while
+#: that effect is fitted, since the floor already accounts for them; the friction refit of 004 Table 4
+#: (:func:`.catalog.friction_refit`) owns every friction entry
+OWN = {"viscous_friction": ("viscous",), "load_friction": ("direction_asymmetry",),
+       "efficiency_variation": ("torque_constant",), "preload_change": ("direction_asymmetry",),
+       "stiffness_nonlinearity": ("stiffness",), "clearance_growth": ("clearance",),
+       "force_sensor_bias": ("load_cell", "torque_constant"), "friction_refit": ("viscous", "direction_asymmetry")}
 
 #: a channel's model error is material above this share of what it predicts: the budget's bound on the
 #: channel's scale (torque: K_T x current gain, 2 %; force: the load-cell gain, 1 %)
@@ -107,5 +113,5 @@ def apply(base: Augment, deviation: Augment) -> Augment:
 
 def free(effect_names: list[str]) -> list[bool]:
     """Which budget entries are tolerances while the named effects are fitted."""
-    own = {OWN[e] for e in effect_names if e in OWN}
+    own = {name for e in effect_names for name in OWN.get(e, ())}
     return [t.name not in own for t in BUDGET]

@@ -95,6 +95,10 @@ def test_selftest_json(tmp_path):
     res = json.loads(out.read_text())
     assert res.keys() >= SELFTEST_KEYS and res["cases"] == 3
     assert sum(sum(row.values()) for row in res["confusion"].values()) == 3
+    # the foreign world under its own key, with the in-world keys and those of the open set
+    foreign = res["foreign"]
+    assert foreign.keys() >= SELFTEST_KEYS | {"unexplained_accuracy", "pair_accuracy", "catalog_unexplained_rate"}
+    assert foreign["cases"] == 3 and len(foreign["case_results"]) == 3
 
 
 def test_life_level_on_the_committed_healthy_bag(tmp_path):
