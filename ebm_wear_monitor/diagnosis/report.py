@@ -1,13 +1,20 @@
-"""HTML report of a diagnosis: residuals by phase and signal before/after, ranking, recorded vs twin overlays.
+"""HTML report of a diagnosis, for people: the verdict in words, where the twin misses, how far each effect closes it.
 
-``write_report(directory, states)`` writes ``index.html`` and PNG figures
-(matplotlib, Agg backend, no display needed) for every unit; ``states`` are the
-``(result, scorer, ranking)`` triples of :func:`.pipeline.diagnose_with_state`.
-The page is a thin view over each unit's diagnosis result dict, rendered with the project's
-shared templates and stylesheet (:mod:`ebm_wear_monitor.reports`, ``diagnose.html``). The
-overlays show the recorded signal and the twin's on top and their difference below (the gap is
-small against the signal, so only the difference makes it visible); the ranking shows the share
-of the held-out gap each effect removes, so the best effects have the longest bars.
+``write_report(directory, states)`` writes one self-contained ``index.html`` (the project's shared
+templates and stylesheet, :mod:`ebm_wear_monitor.reports`, ``diagnose.html``; Plotly inlined, so it
+opens without network access); ``states`` are the ``(result, scorer, ranking)`` triples of
+:func:`.pipeline.diagnose_with_state`.  Per unit:
+
+* the verdict in plain words with each effect's size relative to nominal (the result's ``summary``);
+* the residuals, recorded minus twin, per phase, on the held-out cycles, for the twin as given and
+  for the twin with the explaining effects: the torque channel as the current the difference is
+  worth [A] (R_T / K_T, 004 eq. 7) and the force channel [N] (:mod:`.residuals`), one point per
+  block against the time since the start of its phase; the residual, not an overlay of two signals
+  that hides the gap under the signal;
+* the share of the held-out gap each catalog effect closes alone, with its size against its
+  detectability floor (:mod:`.tolerance`);
+* the acquisition conventions estimated from the data (``nuisances``) in the units people read.
+
 Files are built in a temporary directory and moved into ``directory`` at the end
 (:func:`ebm_wear_monitor.outputs.publish_directory`), so a failed run leaves nothing half-written.
 """
@@ -20,120 +27,111 @@ from pathlib import Path
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.phases import PHASES
-from ebm_wear_monitor.diagnosis.ranking import Ranking, Scorer
-from ebm_wear_monitor.diagnosis.recording import SIGNALS
-from ebm_wear_monitor.diagnosis.residuals import NOMINAL, Augment
-from ebm_wear_monitor.outputs import publish_directory
+from ebm_wear_monitor.diagnosis.pipeline import describe
+from ebm_wear_monitor.diagnosis.ranking import EffectFit, Model, Ranking, Scorer
+from ebm_wear_monitor.outputs import jsonable, publish_directory
+
+VERDICT_CLASS = {"none": "ok", "effect": "warn", "unexplained": "due"}
+VERDICT_WORDS = {"none": "twin explains the data", "effect": "unmodelled effect found",
+                 "unexplained": "gap no known effect explains"}
+BLUE, RED, GREY = "#1565c0", "#c62828", "#8d6e63"
 
 
-def needed_current(sc: Scorer, aug: Augment) -> np.ndarray:
-    """Current the model needs for the recorded motion and force, (J_me dw/dt + T_L + T_f) / K_T [A].
-
-    For display: the speed derivative is taken from the smoothed speed.
-    """
-    from scipy.ndimage import uniform_filter1d
-
-    m, n = sc.model, sc.model.nominal
-    T_f, T_L = m.friction(aug)
-    w = uniform_filter1d(m.w_m, max(1, round(0.005 / m.rec.dt)), mode="nearest")
-    accel = n.J_me * np.gradient(w, m.rec.t)
-    # at rest the friction balances the drive exactly: show the recorded current there
-    return np.where(m.moving, (accel + T_L + T_f) / n.K_T, m.rec.current)
+def _residuals(sc: Scorer, m: Model) -> tuple[np.ndarray, np.ndarray]:
+    """Per block, recorded minus model: torque channel as a current [A], force channel [N]."""
+    n = sc.model.blocks.size
+    z = sc.z_all(m.aug) + sc.D @ m.t
+    return z[:n] * sc.sigma_torque / sc.model.nominal.K_T, z[n:] * sc.sigma_force
 
 
-def _fig_where(res: dict, path: Path) -> None:
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8), sharey=True)
-    for ax, key, title in ((axes[0], "where", "nominal twin"), (axes[1], "where_after", "with top effect")):
-        table = res.get(key)
-        ax.set_title(title)
-        if not table:
-            ax.text(0.5, 0.5, "no effect added", ha="center", transform=ax.transAxes)
-            continue
-        x = np.arange(len(PHASES))
-        for k, sig in enumerate(SIGNALS):
-            vals = [table["table"][p][sig] or 0.0 for p in PHASES]
-            ax.bar(x + (k - 1.5) * 0.2, vals, 0.2, label=sig)
-        ax.axhline(1.0, color="k", lw=0.8, ls="--")
-        ax.set_xticks(x, [p.replace("_", "\n") for p in PHASES], fontsize=8)
-    axes[0].set_ylabel("RMS residual / noise")
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-
-
-def _fig_ranking(res: dict, path: Path) -> None:
-    import matplotlib.pyplot as plt
-
-    ranking = res["ranking"]
-    names = [r["effect"] for r in ranking]
-    before = res["gap_before"]
-    removed = [100.0 * (1.0 - r["gap_after"] / before) if before > 0 else 0.0 for r in ranking]
-    fig, ax = plt.subplots(figsize=(8, 0.35 * len(names) + 1.2))
-    y = np.arange(len(names))[::-1]
-    ax.barh(y, removed, color=["tab:green" if r > 0 else "tab:gray" for r in removed])
-    for yi, r, rem in zip(y, ranking, removed, strict=True):
-        ax.text(max(rem, 0.0) + 1.0, yi, f"gap after {r['gap_after']:.3g}", va="center", fontsize=7)
-    ax.axvline(0.0, color="k", lw=0.8)
-    ax.set_xlim(min(0.0, min(removed, default=0.0)) - 2.0, 125.0)
-    ax.set_yticks(y, names, fontsize=8)
-    ax.set_xlabel(f"share of the held-out gap removed [%] (gap before: {before:.3g} {res['metric']})")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+def residual_figure(sc: Scorer, ranking: Ranking) -> dict:
+    """Recorded minus twin per phase on the held-out cycles (module docstring), as a Plotly figure dict."""
+    mdl, b = sc.model, sc.model.blocks
+    t = mdl.rec.t
+    run_start = np.concatenate(([True], b.run[1:] != b.run[:-1]))
+    start_t = t[b.start][np.maximum.accumulate(np.where(run_start, np.arange(b.size), 0))]
+    since = t[b.start] - start_t  # time since the start of the block's phase run [s]
+    held = sc.split.heldout
+    models = [("twin as given", Model(sc.base.aug), RED)]
+    if ranking.explained is not None:
+        names = " + ".join(f.effect.name for f in ranking.selected)
+        models.append((f"twin with {names}", ranking.explained.model, BLUE))
+    data, layout = [], {"template": "plotly_white", "margin": {"l": 70, "r": 20, "t": 40, "b": 50},
+                        "legend": {"orientation": "h", "y": -0.15}, "height": 520}
+    for i, phase in enumerate(PHASES):
+        for row, what in enumerate(("current", "force")):
+            axis = 2 * len(PHASES) * 0 + row * len(PHASES) + i + 1
+            sfx = "" if axis == 1 else str(axis)
+            layout[f"xaxis{sfx}"] = {"domain": [i / len(PHASES) + 0.02, (i + 1) / len(PHASES) - 0.02],
+                                     "anchor": f"y{sfx}", "title": {"text": "s into phase"} if row else {}}
+            layout[f"yaxis{sfx}"] = {"domain": [0.0, 0.44] if row else [0.56, 1.0], "anchor": f"x{sfx}",
+                                     "zeroline": True,
+                                     "title": {"text": ("recorded − twin [A]" if what == "current"
+                                                        else "recorded − twin [N]")} if i == 0 else {}}
+            rows = held & (b.phase == i) & ((b.moving if what == "current" else np.ones(b.size, bool)))
+            if what == "force":
+                rows &= sc.valid(np.ones(b.size, bool), "force")
+            for label, m, colour in models:
+                cur, force = _residuals(sc, m)
+                y = cur if what == "current" else force
+                data.append({"type": "scattergl", "mode": "markers", "x": since[rows].tolist(),
+                             "y": y[rows].tolist(), "name": label, "legendgroup": label,
+                             "showlegend": i == 0 and row == 0, "xaxis": f"x{sfx}", "yaxis": f"y{sfx}",
+                             "marker": {"size": 4, "color": colour, "opacity": 0.6}})
+        layout.setdefault("annotations", []).append(
+            {"text": phase.replace("_", " "), "xref": "paper", "yref": "paper", "showarrow": False,
+             "x": (i + 0.5) / len(PHASES), "y": 1.06})
+    return jsonable({"data": data, "layout": layout})  # type: ignore[return-value]
 
 
-def _fig_overlay(sc: Scorer, ranking: Ranking, found: bool, path: Path) -> None:
-    """Per representative held-out cycle: current and force, recorded vs twin, and their differences."""
-    import matplotlib.pyplot as plt
-
-    m, b = sc.model, sc.model.blocks
-    held = sc.split.heldout_cycles
-    peak = np.array([b.force[b.cycle == c].max() for c in held])
-    show = sorted({int(held[np.argmin(peak)]), int(held[np.argmax(peak)])})
-    fig, axes = plt.subplots(4, len(show), figsize=(6 * len(show), 10), squeeze=False, sharex="col",
-                             gridspec_kw={"height_ratios": [2, 1, 2, 1]})
-    aug = ranking.top.augment if found else None
-    label = ranking.top.effect.name if found else ""
-    for j, c in enumerate(show):
-        idx = np.flatnonzero(m.seg.cycle == c)
-        t = m.rec.t[idx] - m.rec.t[idx[0]]
-        for row, (recorded, nominal, augmented, what, unit) in enumerate((
-                (m.rec.current[idx], needed_current(sc, sc.base.aug)[idx],
-                 None if aug is None else needed_current(sc, aug)[idx], "current", "A"),
-                (m.rec.axial_force[idx], m.force_model(NOMINAL)[idx],
-                 None if aug is None else m.force_model(aug)[idx], "axial force", "N"))):
-            ax, diff = axes[2 * row, j], axes[2 * row + 1, j]
-            ax.plot(t, recorded, lw=1.4, color="0.35", label="recorded")
-            ax.plot(t, nominal, lw=0.9, color="tab:red", label="nominal twin")
-            diff.plot(t, recorded - nominal, lw=0.8, color="tab:red", label="recorded − nominal twin")
-            if augmented is not None:
-                ax.plot(t, augmented, lw=0.9, ls="--", color="tab:blue", label=f"twin with {label}")
-                diff.plot(t, recorded - augmented, lw=0.8, color="tab:blue",
-                          label=f"recorded − twin with {label}")
-            diff.axhline(0.0, color="k", lw=0.6)
-            ax.set_title(f"held-out cycle {c}: {what} [{unit}]", fontsize=9)
-            diff.set_ylabel(f"difference [{unit}]", fontsize=8)
-            ax.legend(fontsize=7)
-            diff.legend(fontsize=7)
-        axes[-1, j].set_xlabel("time in cycle [s]")
-    fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+def shrink_figure(fits: list[EffectFit]) -> dict:
+    """The share of the held-out gap each effect closes alone, bars coloured by materiality."""
+    names = [f.effect.name.replace("_", " ") for f in fits][::-1]
+    shrink = [100.0 * max(f.shrink, 0.0) for f in fits][::-1]
+    colours = [BLUE if f.material else GREY for f in fits][::-1]
+    return {"data": [{"type": "bar", "orientation": "h", "y": names, "x": shrink,
+                      "marker": {"color": colours}, "hovertemplate": "%{y}: %{x:.0f} % of the gap<extra></extra>"}],
+            "layout": {"template": "plotly_white", "height": 60 + 28 * len(fits),
+                       "margin": {"l": 170, "r": 20, "t": 10, "b": 40},
+                       "xaxis": {"title": {"text": "share of the held-out gap closed alone [%]"},
+                                 "range": [0, 105]}}}
 
 
-def unit_context(res: dict, stem: str) -> dict:
-    """What the template shows of one unit: the result dict, the figure files and table rows."""
-    ranking = [{"effect": r["effect"], "score": f"{r['score']:+.3f}", "gap_after": f"{r['gap_after']:.3g}",
-                "p_value": f"{r['p_value']:.2g}",
-                "parameters": ", ".join(f"{k} = {v['value']:.4g} ± {v['stderr']:.2g} {v['unit']}"
-                                        for k, v in r["parameters"].items())} for r in res["ranking"]]
+def _quantity(value: float, std: float, unit: str) -> str:
+    """A nuisance in the units people read (ms, µm, mrad, N, A)."""
+    scale, shown = {"s": (1e3, "ms"), "rad": (1e3, "mrad"), "m": (1e6, "µm")}.get(unit, (1.0, unit))
+    if not np.isfinite(std) or std == 0.0:
+        return f"{value * scale:.4g} {shown}"
+    return f"{value * scale:.4g} ± {std * scale:.2g} {shown}"
+
+
+NUISANCE_WORDS = {
+    "rest_angle_rad": "released rest angle (encoder zero), mean", "rest_angle_spread_rad": "… spread between applications",
+    "force_tare_N": "force reading with the pads open (tare), mean", "force_tare_spread_N": "… spread between applications",
+    "applications_not_released": "applications starting with the pads closed (left out of the force channel)",
+    "angle_noise_rad": "angle noise while moving", "velocity_lag_s": "recorded velocity lags the angle's speed by",
+    "velocity_gain": "recorded velocity / the angle's speed", "current_shift": "current timing (read later by)",
+    "current_offset": "current-sensor zero", "force_skew": "force stamped late by", "force_lag": "force-sensor lag",
+    "load_shift": "load torque quadrature shift",
+}
+
+
+def unit_context(res: dict, sc: Scorer, ranking: Ranking) -> dict:
+    """What the template shows of one unit."""
+    effects = [{"effect": f.effect.name.replace("_", " "), "size": describe(f),
+                "floor": f"{100 * f.floor:.0f} %" if f.effect.size_unit == "-" else f"{f.floor * 1e6:.0f} µm",
+                "material": "yes" if f.material else "no",
+                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %",
+                "drift": "" if not f.drifting else "drifts within the recording"} for f in ranking.fits]
+    nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v["value"], v["std"], v["unit"]))
+                 for k, v in res["nuisances"].items()]
     faults = [f"{sig}: {kind} {n}" for sig, kinds in sorted((res.get("input_faults_by_signal") or {}).items())
               for kind, n in sorted(kinds.items())]
-    return {"res": res, "stem": stem, "ranking": ranking, "faults": faults,
-            "json": json.dumps({k: v for k, v in res.items() if k != "ranking"}, indent=1, default=float)}
+    return {"res": res, "light": VERDICT_CLASS[res["verdict"]], "words": VERDICT_WORDS[res["verdict"]],
+            "residuals": residual_figure(sc, ranking), "shrink": shrink_figure(ranking.fits),
+            "effects": effects, "nuisances": nuisances, "faults": faults,
+            "json": json.dumps({k: v for k, v in res.items() if k not in ("ranking", "where", "where_after")},
+                               indent=1, default=float)}
 
 
 def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking]]) -> Path:
@@ -142,21 +140,11 @@ def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking
     Built in a temporary sibling and moved in by :func:`ebm_wear_monitor.outputs.publish_directory`
     (``index.html`` last), so a failed run leaves no half-written page.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-
     from ebm_wear_monitor.reports import render_page
 
     def build(tmp: Path) -> None:
-        units = []
-        for i, (res, sc, ranking) in enumerate(states):
-            stem = f"unit{i}"
-            _fig_where(res, tmp / f"{stem}_where.png")
-            _fig_ranking(res, tmp / f"{stem}_ranking.png")
-            _fig_overlay(sc, ranking, res["verdict"] == "effect", tmp / f"{stem}_overlay.png")
-            units.append(unit_context(res, stem))
-        page = render_page("diagnose.html", "Sim-to-real gap diagnosis",
+        units = [unit_context(res, sc, ranking) for res, sc, ranking in states]
+        page = render_page("diagnose.html", "Sim-to-real gap diagnosis", plotly=True,
                            subtitle=", ".join(r["unit"] for r, _, _ in states), units=units,
                            method=states[0][0]["residual_method"])
         (tmp / "index.html").write_text(page, encoding="utf-8")
