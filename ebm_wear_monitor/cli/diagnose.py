@@ -14,8 +14,8 @@ with the wear model's (issue 7 item 5).
 
 Input screening, as the monitor does it (:mod:`ebm_wear_monitor.diagnosis.bags`): a topic sampled
 below the contract's 100 Hz is refused; non-finite or absurd samples are dropped and counted in
-``input_faults`` / ``input_faults_by_signal`` (the replay's keys), never fitted. The unit file needs ``ball_screw`` and ``actuator`` (and the wear
-model's blocks with ``--life``).
+``input_faults`` / ``input_faults_by_signal`` (the replay's keys), never fitted. The unit file needs
+``ball_screw`` and ``actuator`` (and the wear model's blocks with ``--life``).
 """
 
 from __future__ import annotations

@@ -91,7 +91,8 @@ class Effect:
             ref = self.nominal[i] if i < len(self.nominal) else None
             if ref is not None and ref[1] != 0.0:
                 entry |= {"nominal_name": ref[0], "nominal_value": ref[1],
-                          "fraction": float(theta[i] / ref[1]), "fraction_std": float(stderr[i] / abs(ref[1]))}
+                          "fraction": float(theta[i] / ref[1]),
+                          "fraction_std": float(stderr[i] / abs(ref[1]))}
             out[p] = entry
         return out
 
@@ -131,7 +132,8 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
                (0.1 * nom.T_fc, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
                (-np.inf, 0.2), (np.inf, 2.0 * max_speed),
                size=lambda p: abs(p[0]) * (1.0 - np.exp(-((w_hi / p[1]) ** 2))) / nom.T_fc,
-               size_meaning="fall of the extra friction from zero to the top recorded speed, fraction of T_fc",
+               size_meaning="fall of the extra friction from zero to the top recorded speed, "
+                            "fraction of T_fc",
                nominal=(("T_fc", nom.T_fc), None)),
         Effect("stiffness_nonlinearity", "clamp stiffness growing with force (004 eq. 5 progressive)",
                ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * nom.K_b / d_max,),

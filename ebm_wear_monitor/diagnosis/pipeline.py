@@ -110,8 +110,8 @@ def summary(ranking: Ranking) -> str:
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
                 "the catalog is likely.")
-    return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} within "
-            "tolerance); no effect is both significant and above its detectability floor.")
+    return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} "
+            "within tolerance); no effect is both significant and above its detectability floor.")
 
 
 def nuisance_report(sc: Scorer) -> dict[str, dict]:

@@ -101,7 +101,6 @@ from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
     NOMINAL,
     NUISANCE_UNITS,
-    NUISANCES,
     Augment,
     Nominal,
     ResidualModel,
@@ -248,7 +247,7 @@ class Scorer:
         return np.concatenate((r["torque"] / self.sigma_torque, r["force"] / self.sigma_force))
 
     def valid(self, mask: np.ndarray, channel: str) -> np.ndarray:
-        """``mask`` restricted to the blocks that carry a row in ``channel`` (force: released applications)."""
+        """``mask`` restricted to the blocks with a row in ``channel`` (force: released applications)."""
         if channel == "force":
             return mask & self.model.conv.released[self.model.blocks.cycle]
         return mask
@@ -256,7 +255,8 @@ class Scorer:
     def rows(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Indices into all rows (torque then force, every block) of the masked blocks of ``channels``."""
         n = self.model.blocks.size
-        return np.concatenate([np.flatnonzero(self.valid(mask, ch)) + CHANNELS.index(ch) * n for ch in channels])
+        return np.concatenate([np.flatnonzero(self.valid(mask, ch)) + CHANNELS.index(ch) * n
+                               for ch in channels])
 
     def z_raw(self, aug: Augment, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Normalised residuals of the masked blocks, torque rows then force rows (of ``channels``)."""
@@ -278,7 +278,7 @@ class Scorer:
         return np.concatenate([c[self.valid(mask, ch)] for ch in channels])
 
     def gap_mask(self) -> np.ndarray:
-        """Which held-out rows (torque then force) the gap uses: torque rows of blocks at rest are left out."""
+        """Held-out rows (torque then force) the gap uses: torque rows of blocks at rest are left out."""
         m = self.split.heldout
         return np.concatenate((self.model.blocks.moving[m], np.ones(int(self.valid(m, "force").sum()), bool)))
 
@@ -454,7 +454,8 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
 
     def to_model(u: np.ndarray) -> Model:
         p = u * scale
-        aug = _merge(start.aug, effect.to_augment(p[:k]), dict(zip(names, map(float, p[k:k + m]), strict=True)))
+        nuisances = dict(zip(names, map(float, p[k:k + m]), strict=True))
+        aug = _merge(start.aug, effect.to_augment(p[:k]), nuisances)
         t = t_fixed.copy()
         t[free] = p[k + m:]
         return Model(aug, t)
@@ -619,7 +620,8 @@ def contribution(sc: Scorer, effect: Effect, theta: np.ndarray) -> float:
     if "torque" in effect.channels:
         rows = b.moving
         d = mdl.torque_residual(NOMINAL)[rows] - mdl.torque_residual(aug)[rows]
-        out = max(out, float(np.sqrt(np.mean(d * d)) / max(np.sqrt(np.mean(mdl.drive_block()[rows] ** 2)), 1e-12)))
+        scale = max(np.sqrt(np.mean(mdl.drive_block()[rows] ** 2)), 1e-12)
+        out = max(out, float(np.sqrt(np.mean(d * d)) / scale))
     if "force" in effect.channels:
         rows = sc.valid(np.ones(b.size, bool), "force") & (b.force > mdl.seg.force_rise)
         if rows.any():
@@ -663,7 +665,7 @@ class Ranking:
     best_pair_shrink: float  # largest share of the material gap a single effect or greedy pair closes
     gap_before: float  # held-out gap of the nominal twin as given (nuisances fitted, no tolerance deviation)
     gap_tolerance: float  # held-out gap of the twin within its tolerance, W
-    unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer.unexplained_share)
+    unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer method)
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
 

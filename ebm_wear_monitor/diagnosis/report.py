@@ -1,4 +1,4 @@
-"""HTML report of a diagnosis, for people: the verdict in words, where the twin misses, how far each effect closes it.
+"""HTML report of a diagnosis for people: the verdict in words, where the twin misses, what closes it.
 
 ``write_report(directory, states)`` writes one self-contained ``index.html`` (the project's shared
 templates and stylesheet, :mod:`ebm_wear_monitor.reports`, ``diagnose.html``; Plotly inlined, so it
@@ -68,7 +68,7 @@ def residual_figure(sc: Scorer, ranking: Ranking) -> dict:
                                      "zeroline": True,
                                      "title": {"text": ("recorded − twin [A]" if what == "current"
                                                         else "recorded − twin [N]")} if i == 0 else {}}
-            rows = held & (b.phase == i) & ((b.moving if what == "current" else np.ones(b.size, bool)))
+            rows = held & (b.phase == i) & (b.moving if what == "current" else np.ones(b.size, bool))
             if what == "force":
                 rows &= sc.valid(np.ones(b.size, bool), "force")
             for label, m, colour in models:
@@ -90,7 +90,8 @@ def shrink_figure(fits: list[EffectFit]) -> dict:
     shrink = [100.0 * max(f.shrink, 0.0) for f in fits][::-1]
     colours = [BLUE if f.material else GREY for f in fits][::-1]
     return {"data": [{"type": "bar", "orientation": "h", "y": names, "x": shrink,
-                      "marker": {"color": colours}, "hovertemplate": "%{y}: %{x:.0f} % of the gap<extra></extra>"}],
+                      "marker": {"color": colours},
+                      "hovertemplate": "%{y}: %{x:.0f} % of the gap<extra></extra>"}],
             "layout": {"template": "plotly_white", "height": 60 + 28 * len(fits),
                        "margin": {"l": 170, "r": 20, "t": 10, "b": 40},
                        "xaxis": {"title": {"text": "share of the held-out gap closed alone [%]"},
@@ -106,13 +107,20 @@ def _quantity(value: float, std: float, unit: str) -> str:
 
 
 NUISANCE_WORDS = {
-    "rest_angle_rad": "released rest angle (encoder zero), mean", "rest_angle_spread_rad": "… spread between applications",
-    "force_tare_N": "force reading with the pads open (tare), mean", "force_tare_spread_N": "… spread between applications",
+    "rest_angle_rad": "released rest angle (encoder zero), mean",
+    "rest_angle_spread_rad": "… spread between applications",
+    "force_tare_N": "force reading with the pads open (tare), mean",
+    "force_tare_spread_N": "… spread between applications",
     "applications_not_released": "applications starting with the pads closed (left out of the force channel)",
-    "angle_noise_rad": "angle noise while moving", "velocity_lag_s": "recorded velocity lags the angle's speed by",
-    "velocity_gain": "recorded velocity / the angle's speed", "current_shift": "current timing (read later by)",
-    "current_offset": "current-sensor zero", "force_skew": "force stamped late by", "force_lag": "force-sensor lag",
-    "load_shift": "load torque quadrature shift",
+    "angle_noise_rad": "angle noise while moving",
+    "velocity_lag_s": "recorded velocity lags the angle's speed by",
+    "velocity_gain": "recorded velocity / the angle's speed",
+    "current_shift": "current timing (read later by)",
+    "current_offset": "current-sensor zero", "force_skew": "force stamped late by",
+    "force_lag": "force-sensor lag",
+    "load_shift": "load torque quadrature shift", "angle_rate_Hz": "angle sample rate",
+    "velocity_rate_Hz": "velocity sample rate", "axial_force_rate_Hz": "force sample rate",
+    "current_rate_Hz": "current sample rate",
 }
 
 

@@ -163,7 +163,8 @@ class Augment:
 
 NOMINAL = Augment()
 #: the Augment fields that are acquisition nuisances, per channel they act in
-NUISANCES = {"torque": ("current_shift", "current_offset", "load_shift"), "force": ("force_skew", "force_lag")}
+NUISANCES = {"torque": ("current_shift", "current_offset", "load_shift"),
+             "force": ("force_skew", "force_lag")}
 NUISANCE_UNITS = {"current_shift": "s", "current_offset": "A", "load_shift": "s", "force_skew": "s",
                   "force_lag": "s"}
 #: the Augment fields of the model corrections that act in each channel (force_gain acts in both)
@@ -202,7 +203,8 @@ def clamp_spring(n: Nominal, aug: Augment) -> ClampLaw:
     """004 eq. 5 with the clearance and stiffening of ``aug`` (the twin's :class:`ClampLaw`, whose
     stiffening s = 2 k_2 delta_ref / K_b, so that F = K_b d + k_2 d^2)."""
     K_b = n.K_b * (1.0 + aug.stiffness_gain)
-    return ClampLaw(K_b, n.x_ag + aug.clearance, 2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / K_b**2)
+    stiffening = 2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / K_b**2
+    return ClampLaw(K_b, n.x_ag + aug.clearance, stiffening)
 
 
 def first_order_lag(u: np.ndarray, tau: float, dt: float) -> np.ndarray:
@@ -378,7 +380,7 @@ class ResidualModel:
         return np.interp(t + shift, t, y)
 
     def load_force(self, aug: Augment) -> np.ndarray:
-        """Clamp force behind the reading for the load torque: tared, gain removed, lag and skew undone [N]."""
+        """Clamp force behind the reading for the load torque: tared, gain removed, lag and skew undone."""
         shift = aug.force_skew + aug.force_lag + aug.load_shift
         return self._read_later(self.force, shift) / (1.0 + aug.force_gain)
 

@@ -269,7 +269,8 @@ def _pct(v: float | None) -> str:
 def format_summary(result: dict) -> str:
     """Human-readable confusion matrices and scores of both worlds."""
     lines = [f"in-world self-test (the twin's own recordings): {result['cases']} cases in "
-             f"{result['seconds']:.1f} s ({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz each)"]
+             f"{result['seconds']:.1f} s ({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz "
+             "each)"]
     lines += confusion_lines(result["confusion"])
     lines.append(f"top-1 accuracy (effects >= 10 %): {_pct(result['top1_accuracy'])}   "
                  f"top-2: {_pct(result['top2_accuracy'])}   all magnitudes top-1: "
@@ -284,15 +285,16 @@ def format_summary(result: dict) -> str:
     f = result.get("foreign")
     if f is not None:
         c = f["counts"]
-        lines += ["", f"foreign-world self-test (an independent generator, read from bags on disk): {f['cases']} "
-                      f"cases in {f['seconds']:.1f} s ({c['none']} no-effect, {c['single']} single-effect of which "
-                      f"{c['single_small']} below 10 %, {c['pairs']} two-effect, {c['outside']} outside the catalog)"]
+        lines += ["", f"foreign-world self-test (an independent generator, read from bags on disk): "
+                      f"{f['cases']} cases in {f['seconds']:.1f} s ({c['none']} no-effect, {c['single']} "
+                      f"single-effect of which {c['single_small']} below 10 %, {c['pairs']} two-effect, "
+                      f"{c['outside']} outside the catalog)"]
         lines += confusion_lines(f["confusion"])
         lines.append(f"top-1 accuracy (single effects >= 10 %): {_pct(f['top1_accuracy'])}   "
                      f"(5-10 %: {_pct(f['top1_accuracy_small'])})   top-2: {_pct(f['top2_accuracy'])}")
         lines.append(f"false-positive rate (no-effect cases): {_pct(f['false_positive_rate'])}   "
                      f"median held-out shrink: {_pct(f['median_shrink'])}")
-        lines.append(f"outside the catalog reported unexplained: {_pct(f['unexplained_accuracy'])}   catalog "
-                     f"effects reported unexplained: {_pct(f['catalog_unexplained_rate'])}   both of two named: "
-                     f"{_pct(f['pair_accuracy'])}")
+        lines.append(f"outside the catalog reported unexplained: {_pct(f['unexplained_accuracy'])}   "
+                     f"catalog effects reported unexplained: {_pct(f['catalog_unexplained_rate'])}   "
+                     f"both of two named: {_pct(f['pair_accuracy'])}")
     return "\n".join(lines)

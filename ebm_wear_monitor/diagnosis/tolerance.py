@@ -4,9 +4,9 @@ The nominal twin is built from the unit file (004 Table 1 and the calculated fri
 of 004 Table 3).  Even a unit with no unmodelled effect differs from it within the
 bounds below; the diagnosis must not call such a difference an effect.
 
-====================================  =========  ==============================================================
+====================================  =========  =========================================================
 quantity                              bound      reason
-====================================  =========  ==============================================================
+====================================  =========  =========================================================
 K_T times the current-sensor gain     +-2 %      NdFeB torque constant -0.12 %/K over +-10 K (1.2 %) and a
                                                  1 % current-sensor gain, added in quadrature (1.6 %)
 equivalent inertia J_me (004 eq. 2)   +-2 %      rotor and gear inertia of a datasheet, grease in the gear
@@ -19,7 +19,7 @@ clamp stiffness K_b (004 eq. 6)       +-3 %      pad modulus with temperature an
 brake clearance x_ag                  +-5 um     thermal expansion of ~0.1 m of caliper steel over +-4 K
                                                  (12e-6 /K), the ECU's release-position repeatability
 load-cell gain                        +-1 %      a class-0.5 load cell with its amplifier
-====================================  =========  ==============================================================
+====================================  =========  =========================================================
 
 **The twin within its tolerance.**  Every model the diagnosis fits, the nominal one
 included, may move each of these quantities within its bound (bounded least squares,
@@ -76,8 +76,10 @@ class Tolerance:
 BUDGET: tuple[Tolerance, ...] = (
     Tolerance("torque_constant", lambda n: Augment(drive_gain=0.02),
               "K_T x current-sensor gain +-2 %: -0.12 %/K over +-10 K and a 1 % current-sensor gain"),
-    Tolerance("inertia", lambda n: Augment(inertia_gain=0.02), "J_me +-2 %: datasheet rotor and gear inertia"),
-    Tolerance("direction_asymmetry", lambda n: Augment(reverse_dT_fc=-0.0743 * n.T_fc, reverse_dG=-0.0293 * n.G),
+    Tolerance("inertia", lambda n: Augment(inertia_gain=0.02),
+              "J_me +-2 %: datasheet rotor and gear inertia"),
+    Tolerance("direction_asymmetry",
+              lambda n: Augment(reverse_dT_fc=-0.0743 * n.T_fc, reverse_dG=-0.0293 * n.G),
               "004 Table 3: T_fc 7.43 % and G 2.93 % lower in reverse"),
     Tolerance("viscous", lambda n: Augment(dB=0.10 * n.B), "B +-10 %: +-4 K of lubricant temperature"),
     Tolerance("stiffness", lambda n: Augment(stiffness_gain=0.03), "K_b +-3 %: pad modulus"),
@@ -91,7 +93,8 @@ BUDGET: tuple[Tolerance, ...] = (
 OWN = {"viscous_friction": ("viscous",), "load_friction": ("direction_asymmetry",),
        "efficiency_variation": ("torque_constant",), "preload_change": ("direction_asymmetry",),
        "stiffness_nonlinearity": ("stiffness",), "clearance_growth": ("clearance",),
-       "force_sensor_bias": ("load_cell", "torque_constant"), "friction_refit": ("viscous", "direction_asymmetry")}
+       "force_sensor_bias": ("load_cell", "torque_constant"),
+       "friction_refit": ("viscous", "direction_asymmetry")}
 
 #: a channel's model error is material above this share of what it predicts: the budget's bound on the
 #: channel's scale (torque: K_T x current gain, 2 %; force: the load-cell gain, 1 %)

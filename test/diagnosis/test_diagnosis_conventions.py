@@ -30,7 +30,7 @@ def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():
     rng = np.random.default_rng(1)
     t = np.cumsum(rng.uniform(0.8e-3, 1.2e-3, 400))
     y = 3.0 + 2.0 * t - 5.0 * t**2
-    slope, factor = local_slope(t, y, 3)
+    slope, _ = local_slope(t, y, 3)
     assert np.allclose(slope, 2.0 - 10.0 * t, atol=1e-9)
     # within a group the window is one-sided at the edges and still exact
     group = (t > t[200]).astype(int)
@@ -75,7 +75,7 @@ def base_recording():
                                   "current offset", "rest angle per application"])
 def test_a_convention_alone_is_no_effect(base_recording, name):
     rec = _variants(base_recording)[name]
-    sc, ranking = analyse(rec, UNIT)
+    _, ranking = analyse(rec, UNIT)
     assert ranking.verdict == "none", (name, ranking.top.effect.name, ranking.top.size)
 
 
