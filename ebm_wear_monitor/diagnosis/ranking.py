@@ -40,7 +40,9 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 
 **Three tests for an effect to count** (issue 10, items 3-5):
 
-(a) statistical: the held-out improvement is significant.  The correction an effect
+(a) statistical: the held-out improvement over W_E, the twin within its tolerance with the
+    effect's own budget entries held at zero (the model the effect extends: a nested
+    comparison, :func:`base_without_own`), is significant.  The correction an effect
     makes, delta = z_before - z_after on the held-out rows, is fixed by the calibration
     cycles; with held-out noise z ~ N(0, 1) independent of it, S_before - S_after =
     2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when the effect is
@@ -199,6 +201,7 @@ class Scorer:
     base_std: dict[str, float] = field(default_factory=dict)  # standard errors of base's nuisances
     #: block noise propagated from the sensors alone (no residual-based scale-up), torque [N m], force [N]
     sensor_sigma: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
+    cache: dict = field(default_factory=dict, compare=False, repr=False)  # fits shared by the effects
 
     @classmethod
     def build(cls, model: ResidualModel, reference: Augment | None = None) -> Scorer:
@@ -600,13 +603,28 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     shrink = float(1.0 - gap / gap_before) if gap_before > 0.0 else 0.0
     z_after = sc.z(f.model, sc.split.heldout)
     ef = EffectFit(effect, f.theta, f.stderr, f.model, gap, score, shrink, d, z_after)
-    ef.p_value = improvement_p(sc.z(sc.base, sc.split.heldout), z_after)
+    ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
     ef.floor = tolerance.FLOORS.get(effect.name, 0.0)
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef
+
+
+def base_without_own(sc: Scorer, effect: Effect) -> Model:
+    """The twin within its tolerance with the effect's own budget entries held at zero, W_E: the model the
+    effect extends by its parameters (its significance test is against W_E, a nested comparison; against
+    W, whose own entries already mimic the effect up to its floor, a real effect would look weaker)."""
+    own = frozenset(n for part in effect.name.split("+") for n in tolerance.OWN.get(part, ()))
+    if not own:
+        return sc.base
+    key = tuple(sorted(own))
+    cache = sc.cache.setdefault("base_without_own", {})
+    if key not in cache:
+        probe = dataclasses.replace(NUISANCE_ONLY, name=effect.name)
+        cache[key] = fit(sc, probe, sc.base).model
+    return cache[key]
 
 
 def contribution(sc: Scorer, effect: Effect, theta: np.ndarray) -> float:
