@@ -107,8 +107,11 @@ def test_diagnose_report(repo, tmp_path, open_page):
     opened = open_page(report / "index.html")
     page = opened.page
     _assert_clean(opened, "diagnose report")
-    widths = page.evaluate("Array.from(document.images).map(i => i.naturalWidth)")
-    assert len(widths) == 3 and min(widths) > 300  # where, ranking, overlays all loaded
+    page.wait_for_selector(".js-plotly-plot .main-svg")
+    assert page.locator(".js-plotly-plot").count() == 2  # residuals per phase, gap closed per effect
+    # the verdict in words, the effect table with sizes against floors, the estimated conventions
+    assert page.locator(".card .status").first.inner_text().strip()
+    assert page.locator("text=floor").count() >= 1 and page.locator("text=force-sensor lag").count() == 1
     css = page.evaluate("getComputedStyle(document.querySelector('header.page')).backgroundColor")
     assert css == "rgb(29, 39, 51)"  # the shared stylesheet (--ink), as on the replay and fleet pages
     page.screenshot(path=str(tmp_path / "diagnose.png"), full_page=True)
