@@ -63,6 +63,7 @@ TOOLS: tuple[Requirement, ...] = (
     Requirement("tqdm", ">=4.66", ("tqdm",)),
     Requirement("Jinja2", ">=3.1", ("jinja2",)),
     Requirement("plotly", ">=5.20", ("plotly",)),
+    Requirement("threadpoolctl", ">=3.1", ("threadpoolctl",)),  # the diagnosis's BLAS on one thread
 )
 
 #: what the tests import or run besides the tools: the ``test`` extra (which includes the tools)
