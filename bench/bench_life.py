@@ -7,10 +7,10 @@ recordings through the bag writer and the core). After every application the mon
 (monitor/tracker.py, monitor/life.py) and, in the same run, the naive baseline (a least-squares line
 through every observation so far, replay/prognostics.py ``line_forecast``) predict the remaining
 life. Printed: the prognostics metrics of Saxena et al. 2010 (replay/prognostics.py) per family and
-over the set, the issue's targets, the cost per application, and one PNG with the remaining life
-against the truth for every unit.
+over the set, the issue's targets, the cost per application, and one HTML page (Plotly) with the
+remaining life against the truth for every unit.
 
-    .venv/bin/python bench/bench_life.py [--out life_vs_truth.png] [--every 1]
+    .venv/bin/python bench/bench_life.py [--out life_vs_truth.html] [--every 1]
 """
 
 from __future__ import annotations
@@ -65,42 +65,46 @@ def _row(label: str, ms: list[dict]) -> str:
 
 
 def _figure(path: Path, runs: list) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """One self-contained HTML page: a panel per unit, remaining life against the truth (log axis)."""
+    from plotly.io import write_html
+    from plotly.subplots import make_subplots
 
     cols = 7
     rows = math.ceil(len(runs) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.4 * rows), squeeze=False)
-    for ax, (h, ours, base, _res) in zip(axes.flat, runs, strict=False):
-        k = ours.k
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[h.name for h, *_ in runs],
+                        horizontal_spacing=0.02, vertical_spacing=0.06)
+    shown: set[str] = set()
+    for i, (h, ours, base, _res) in enumerate(runs):
+        k, row, col = ours.k, i // cols + 1, i % cols + 1
+        p95 = np.where(np.isfinite(ours.p95), ours.p95, 1e9)
+        band = np.concatenate([k, k[::-1]]), np.concatenate([ours.p05, p95[::-1]])
+        traces = [dict(x=band[0], y=band[1], fill="toself", line=dict(width=0),
+                       fillcolor="rgba(31,119,180,0.25)", name="ours p05-p95", legendgroup="band"),
+                  dict(x=k, y=ours.p50, line=dict(color="#1f77b4", width=1), name="ours p50",
+                       legendgroup="p50"),
+                  dict(x=k, y=base.p50, line=dict(color="#ff7f0e", width=1, dash="dash"),
+                       name="least-squares line p50", legendgroup="base")]
         if h.grows:
-            ax.plot(k, h.eol - k, color="k", lw=1.2, label="truth")
-        ax.fill_between(k, ours.p05, np.where(np.isfinite(ours.p95), ours.p95, 1e9), color="tab:blue",
-                        alpha=0.25, lw=0, label="ours p05-p95")
-        ax.plot(k, ours.p50, color="tab:blue", lw=1.0, label="ours p50")
-        ax.plot(k, base.p50, color="tab:orange", lw=0.8, ls="--", label="least-squares line p50")
-        if not h.grows:
-            ax.axhline(ALARM_CYCLES, color="tab:red", lw=0.8, ls=":", label="alarm (p05 < 1000)")
-        ax.set_yscale("log")
+            traces.insert(0, dict(x=k, y=h.eol - k, line=dict(color="black", width=1.5), name="truth",
+                                  legendgroup="truth"))
+        else:
+            traces.append(dict(x=k, y=np.full(k.shape, ALARM_CYCLES), name="alarm (p05 < 1000)",
+                               line=dict(color="red", width=1, dash="dot"), legendgroup="alarm"))
+        for t in traces:
+            fig.add_scatter(**t, mode="lines", showlegend=t["legendgroup"] not in shown, row=row, col=col)
+            shown.add(t["legendgroup"])
         top = 3 * (h.eol if h.grows else 1e7)
-        ax.set_ylim(1.0, top)
-        ax.set_title(h.name, fontsize=8)
-        ax.tick_params(labelsize=6)
-    for ax in axes.flat[len(runs):]:
-        ax.axis("off")
-    axes.flat[0].legend(fontsize=5, loc="lower left")
-    fig.supxlabel("brake application")
-    fig.supylabel("remaining brake applications to the clearance limit")
-    fig.suptitle("Remaining life against the truth, every unit of the validation set (issue 11)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+        fig.update_yaxes(type="log", range=[0, math.log10(top)], row=row, col=col)
+    fig.update_layout(height=260 * rows, width=1800, template="plotly_white", font=dict(size=9),
+                      title="Remaining life (brake applications to the clearance limit) against the truth, "
+                            "every unit of the validation set (issue 11); x: brake application")
+    write_html(fig, str(path), include_plotlyjs=True, full_html=True)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="life_vs_truth.png", help="PNG of remaining life against the truth")
+    parser.add_argument("--out", default="life_vs_truth.html",
+                        help="HTML page (Plotly) of remaining life against the truth")
     parser.add_argument("--every", type=int, default=1,
                         help="evaluate the remaining life every N applications")
     args = parser.parse_args()

@@ -59,7 +59,6 @@ TOOLS: tuple[Requirement, ...] = (
     Requirement("dask[distributed]", ">=2024.1", ("dask", "distributed")),
     Requirement("pandas", ">=2.1", ("pandas",)),
     Requirement("pyarrow", ">=14", ("pyarrow",)),  # pandas' Parquet engine (fleet tables)
-    Requirement("matplotlib", ">=3.8", ("matplotlib",)),
     Requirement("tqdm", ">=4.66", ("tqdm",)),
     Requirement("Jinja2", ">=3.1", ("jinja2",)),
     Requirement("plotly", ">=5.20", ("plotly",)),
