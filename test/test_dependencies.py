@@ -43,9 +43,9 @@ INDIRECT = {"pyarrow": "pandas' Parquet engine (fleet tables)"}
 #: rosdep keys (ros/rosdistro rosdep/python.yaml); None: the distribution has none (pip only)
 ROSDEP = {
     "numpy": "python3-numpy", "scipy": "python3-scipy", "pyyaml": "python3-yaml",
-    "rosbags": "python3-rosbags-pip", "pandas": "python3-pandas", "matplotlib": "python3-matplotlib",
+    "rosbags": "python3-rosbags-pip", "pandas": "python3-pandas",
     "tqdm": "python3-tqdm", "Jinja2": "python3-jinja2", "lz4": None, "backports.zstd": None,
-    "dask[distributed]": None, "pyarrow": None, "plotly": None,
+    "dask[distributed]": None, "pyarrow": None, "plotly": None, "threadpoolctl": None,
     "pytest": "python3-pytest", "pytest-timeout": "python3-pytest-timeout",
     "hypothesis": "python3-hypothesis", "filterpy": "python3-filterpy-pip", "ruff": "python3-ruff-pip",
     "mcap": None, "playwright": None, "mypy": "python3-mypy", "jsonschema": "python3-jsonschema",
