@@ -32,6 +32,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "chunk failing its CRC) is an error (exit 2) instead of a counted 'lost' fault")
 
 
+#: the alpha-lambda test in words (None: the record ends before its time t_lambda, replay.prognostics)
+_PASS = {True: "passed", False: "failed", None: "not judged: the recording ends before lambda"}
+
+
 def format_unit(entry: dict) -> str:
     """Human-readable lines of one unit's section 4 entry (µm, mm, counts, hours, days)."""
     from ebm_wear_monitor.reports.life import life_view
@@ -62,7 +66,7 @@ def format_unit(entry: dict) -> str:
         lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): cumulative "
                      f"relative accuracy {p['cumulative_relative_accuracy']:.3g}, share in the alpha cone "
                      f"{p['alpha_lambda_fraction']:.2f}, prognostic horizon {horizon} applications, "
-                     f"alpha-lambda pass {p['alpha_lambda_pass']}")
+                     f"alpha-lambda {_PASS[p['alpha_lambda_pass']]}")
     elif p:
         lines.append(f"  vs ground truth (end of life at {p['eol_cycles']:.4g} applications): no prediction "
                      "to judge yet")

@@ -13,7 +13,9 @@ divided by its measured noise so that signals and phases compare:
 * ``axial_force`` by the force channel's block noise.
 
 The table entry is the RMS z-score of the blocks of that phase (1 = noise);
-``where`` names the phase and signal with the largest one.  ``by_speed`` and
+``where`` names the phase and signal with the largest one, the torque balance
+named by the signal it is measured in, the current (its ``velocity`` view differs
+only by the block-length weighting).  ``by_speed`` and
 ``by_force`` give the torque-channel RMS z-score in quartile bins of the
 block's mean screw speed (moving blocks) and clamp force (blocks in contact).
 """
@@ -62,7 +64,8 @@ def where_table(sc: Scorer, m: Model) -> dict:
     b = sc.model.blocks
     z = signal_z(sc, m)
     table = {p: {s: _rms(z[s][b.phase == i]) for s in SIGNALS} for i, p in enumerate(PHASES)}
-    best = max(((v, p, s) for p, row in table.items() for s, v in row.items() if v is not None),
+    best = max(((v, p, s) for p, row in table.items() for s, v in row.items()
+                if v is not None and s != "velocity"),
                default=(None, None, None))
     contact = b.force > sc.model.seg.force_rise
     return {
