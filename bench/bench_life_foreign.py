@@ -11,7 +11,8 @@ after every application the monitor's p05/p50/p95 remaining life is compared wit
 through the clearance observed so far (``replay.prognostics.line_forecast``).
 
 Printed per unit: the clearance estimate's bias over the last 20 applications [µm], the p50 error
-at 50 % and 80 % of the history (target ±30 %), the remaining-life status at the end; flat units:
+at 50 % and 80 % of the history (target ±30 %), the unit's p05-p95 coverage of the truth, the
+remaining-life status at the end; flat units:
 alarms (p05 < 1,000 applications). Over the set: p05-p95 coverage of the truth (pooled over every
 bounded prediction; target 80-98 %) for both predictors.
 
@@ -73,6 +74,10 @@ def evaluate(bag: Path) -> dict:
     return row
 
 
+def _share(flags: list[bool]) -> float:
+    return float(np.mean(flags)) if flags else math.nan
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dir", help="where the recordings are kept (default: a temporary directory)")
@@ -86,13 +91,14 @@ def main() -> None:
             bags = list(pool.map(_write, cases, [out] * len(cases)))
             rows = list(pool.map(evaluate, bags))
     print(f"{'unit':30s} {'apps':>4s} {'bias um':>8s} {'status':>17s}  p50 error at 50 % / 80 % "
-          f"(ours | line), or alarms on a flat unit")
+          f"and coverage (ours | line), or alarms on a flat unit")
     inside = {"ours": [], "line": []}
     for r in rows:
         if r["eol"] is None:
             tail = f"flat: alarms ours {r['alarms_ours']}, line {r['alarms_line']}"
         else:
-            tail = " | ".join(" ".join(f"{100 * e:+6.1f} %" for e in r[f"p50_{n}"]) for n in ("ours", "line"))
+            tail = " | ".join(" ".join(f"{100 * e:+6.1f} %" for e in r[f"p50_{n}"])
+                              + f", coverage {_share(r[f'inside_{n}']):.2f}" for n in ("ours", "line"))
             for n in inside:
                 inside[n] += r[f"inside_{n}"]
         print(f"{r['unit']:30s} {r['n']:4d} {r['bias_m'] * 1e6:+8.2f} {r['status']:>17s}  {tail}")

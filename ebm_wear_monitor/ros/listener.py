@@ -25,7 +25,7 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.signals import SignalHandlerOptions
 
-from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.errors import InputError, exit_status
 from ebm_wear_monitor.monitor.wire import check_namespace
 from ebm_wear_monitor.ros.qos import event_qos, latched_qos
 
@@ -57,7 +57,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Print the outputs until SIGINT/SIGTERM (exit 0); exit 2 with one line on a bad namespace."""
+    """Print the outputs until SIGINT (exit 130) or SIGTERM (exit 0); exit 2 with one line on a bad
+    namespace."""
     args = _parser().parse_args(argv)
     try:
         ns = check_namespace(args.namespace)
@@ -90,7 +91,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
-    return 0
+    return exit_status(stop[0])
 
 
 if __name__ == "__main__":

@@ -52,7 +52,7 @@ from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
-from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.errors import InputError, exit_status
 from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore, MonitorState, load_state
 from ebm_wear_monitor.monitor.persistence import backup_path
 from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS
@@ -279,7 +279,8 @@ def usage() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the node until SIGINT/SIGTERM; exit 0 after saving the state, 2 on a start-up error."""
+    """Run the node until SIGINT/SIGTERM and save the state; exit 130 after SIGINT (Ctrl-C: interrupted,
+    the CLI policy), 0 after SIGTERM (a service manager's normal stop), 2 on a start-up error."""
     args = list(sys.argv if argv is None else argv)
     own = args[1:args.index("--ros-args")] if "--ros-args" in args else args[1:]
     if "-h" in own or "--help" in own:
@@ -309,7 +310,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         monitor.close()
         executor.shutdown(timeout_sec=1.0)
         node.get_logger().info(f"stopped by signal {stop[0]}; state saved to {monitor.state_path}")
-        return 0
+        return exit_status(stop[0])
     finally:
         if node is not None:
             node.destroy_node()

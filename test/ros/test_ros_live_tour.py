@@ -58,7 +58,7 @@ def test_the_readme_live_tour_works_verbatim(procs, repo, tmp_path) -> None:
     diag = [m for m in seen if m["topic"] == "diagnostics"]
     assert diag and diag[-1]["msg"]["status"][0]["name"] == "/embu/wear_monitor"
     node.send_signal(signal.SIGINT)
-    assert node.wait(timeout=30) == 0
+    assert node.wait(timeout=30) == 130
     assert list((tmp_path / "state").rglob("monitor_state.json"))
 
 

@@ -124,7 +124,7 @@ def test_bad_input_is_counted_never_crashes_and_never_corrupts_the_wear(procs, m
 
     intruder.send_signal(signal.SIGTERM)
     node.send_signal(signal.SIGINT)
-    assert node.wait(timeout=20) == 0, node.stderr.read()
+    assert node.wait(timeout=20) == 130, node.stderr.read()
     state, _ = load_state(tmp_path / "state" / STATE_FILE)
     assert state is not None and state.duty_cycles == offline.duty_cycles
     for attr in ("screw_raceway_m", "nut_raceway_m", "ball_m"):

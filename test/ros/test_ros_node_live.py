@@ -72,7 +72,7 @@ def test_node_wear_equals_the_offline_core_on_the_same_bag(  # noqa: PLR0917
     assert life and math.isclose(life[-1]["limit_m"], load_unit().monitor.clearance_limit)
 
     node.send_signal(signal.SIGINT)
-    assert node.wait(timeout=20) == 0, node.stderr.read()
+    assert node.wait(timeout=20) == 130, node.stderr.read()
     state, _note = load_state(tmp_path / "state" / STATE_FILE)
     resumed = MonitorCore(load_unit(), MonitorConfig(), state).snapshot()
     assert resumed.duty_cycles == n

@@ -83,7 +83,7 @@ def test_a_corrupt_state_file_is_reported_kept_aside_and_the_node_starts_fresh(p
     assert (kv["train"], kv["car"], kv["embu"]) == ("train7", "car3", "embu2")
     assert list(tmp_path.glob(f"{STATE_FILE}.corrupt-*"))
     node.send_signal(signal.SIGINT)
-    assert node.wait(timeout=20) == 0
+    assert node.wait(timeout=20) == 130
     assert (tmp_path / STATE_FILE).is_file()  # a fresh, valid state was saved at shutdown
 
 
@@ -113,7 +113,7 @@ def test_a_state_saved_under_another_unit_file_is_refused_or_archived(procs, ros
           ["msg"]["status"][0]["values"]}
     assert "archived as" in kv["state_note"] and kv["duty_cycles"] == "0"
     node.send_signal(signal.SIGINT)
-    assert node.wait(timeout=20) == 0
+    assert node.wait(timeout=20) == 130
     (archived,) = tmp_path.glob(f"{STATE_FILE}.unit-{reference.digest()}-*")
     assert json.loads(archived.read_text())  # kept whole, aside
     assert load_state(tmp_path / STATE_FILE)[0].unit_digest == accelerated.digest()
