@@ -7,7 +7,8 @@ units of 150-240 applications whose true clearance follows a schedule that is no
 different usage, slow growth with about 5,800 applications to go, one unit with a 0.4 mm limit).
 Each recording is replayed from disk (``replay_bags``, the CLI's path) with its own ``unit.yaml``;
 after every application the monitor's p05/p50/p95 remaining life is compared with the truth
-(``eol_cycles - k``), next to the naive baseline measured in the same run: a least-squares line
+(``eol_cycles - n``, n the 0-based index of the application just completed, as the generator counts
+them), next to the naive baseline measured in the same run: a least-squares line
 through the clearance observed so far (``replay.prognostics.line_forecast``).
 
 Printed per unit: the clearance estimate's bias over the last 20 applications [µm], the p50 error
@@ -47,7 +48,7 @@ def _write(case, out: str) -> Path:
 
 def _p50_error(p50: np.ndarray, truth: np.ndarray, at: float, eol: float) -> float:
     """Relative p50 error at the fraction ``at`` of the history (or of the life, if shorter)."""
-    i = int(at * min(p50.size, math.floor(eol))) - 1
+    i = int(at * min(p50.size, math.floor(eol) + 1)) - 1
     return float(p50[i] / truth[i] - 1.0)
 
 
@@ -66,7 +67,7 @@ def evaluate(bag: Path) -> dict:
     if entry["eol_cycles"] is None:
         return row | {f"alarms_{name}": int(np.sum(p[:, 0][np.isfinite(p[:, 0])] < ALARM_CYCLES))
                       for name, p in (("ours", ours), ("line", line))}
-    truth = entry["eol_cycles"] - k
+    truth = entry["eol_cycles"] - (k - 1)  # applications counted from 0 (validation/foreign/life.py)
     for name, p in (("ours", ours), ("line", line)):
         bounded = np.isfinite(p[:, 0]) & np.isfinite(p[:, 2]) & (truth > 0)
         row[f"inside_{name}"] = ((p[:, 0] <= truth) & (truth <= p[:, 2]))[bounded].tolist()
