@@ -103,9 +103,12 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None) -> I
         with client:
             yield client
         return
+    # the embedded cluster's own log lines stay off the user's terminal (CRITICAL only): a task's error
+    # reaches the client as its exception and becomes that unit's failure report, and a worker whose
+    # scheduler went away at Ctrl-C would print heartbeat tracebacks after the one-line "interrupted"
     with _sigint_ignored():
         cluster = LocalCluster(n_workers=n_workers or default_workers(), threads_per_worker=1, processes=True,
                                host="127.0.0.1", dashboard_address=LOOPBACK_ANY_PORT,
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
     with cluster, Client(cluster) as client:
         yield client
