@@ -31,11 +31,15 @@ import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams, load_unit
+
+if TYPE_CHECKING:
+    from ebm_wear_monitor.validation.foreign import Case
 
 SMALL = 0.1  # single-effect cases below this relative change are scored apart (``top1_accuracy_small``)
 
@@ -51,7 +55,7 @@ def _truth(bag: Path) -> dict:
             "outside": sorted(d["name"] for d in foreign.get("effects_detail", []) if not d.get("catalog"))}
 
 
-def diagnose_case(case: object, workdir: str, unit: UnitParams | None = None) -> dict:
+def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> dict:
     """Write one foreign case as a bag, diagnose it from disk, and score the answer against its truth."""
     from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
     from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording

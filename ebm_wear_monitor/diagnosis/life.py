@@ -65,8 +65,10 @@ def _growth(d: LifeData, name: str, p: np.ndarray) -> np.ndarray:
         n0 = max(p[1], 1e-9)
         return g + p[0] / n0 * np.exp(-d.n / n0)
     if name == "load_dependent_wear":
+        assert d.force is not None  # in the catalog only with forces (:func:`_effects`)
         return g * (1.0 + p[0] * (d.force / d.force.mean() - 1.0))
     if name == "speed_dependent_wear":
+        assert d.speed is not None  # in the catalog only with speeds
         return g * (1.0 + p[0] * (d.speed / d.speed.mean() - 1.0))
     if name == "ball_share":
         return g * (1.0 - BALL_SHARE_000) / (1.0 - p[0])

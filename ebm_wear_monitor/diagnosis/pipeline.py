@@ -104,6 +104,7 @@ def summary(ranking: Ranking) -> str:
     if ranking.verdict == "effect":
         parts = [describe(f) for f in sorted(ranking.selected, key=lambda f: -f.score)]
         joint = ranking.joint
+        assert joint is not None  # an "effect" verdict rests on the selected effects fitted together
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
                 f"{100.0 * joint.shrink:.0f} % of the {gap}.")
     if ranking.verdict == "unexplained":

@@ -492,7 +492,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     starts = [(*s0, *here, *t0) for s0 in effect.starts]
     starts += [(*effect.starts[0], *[st.get(nm, h) for nm, h in zip(names, here, strict=True)], *t0)
                for st in extra_starts]
-    best = None
+    best: optimize.OptimizeResult | None = None
     for s in starts:
         u0 = np.clip(np.asarray(s, dtype=float) / scale, lo / scale, hi / scale)
         u0[np.abs(u0) < 1e-6] = 0.0  # round-off starts stall the solver's first step
@@ -500,7 +500,8 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
                                      x_scale=1.0, max_nfev=60)
         if best is None or res.cost < best.cost:
             best = res
-    J, z = best.jac, best.fun
+    assert best is not None  # every effect has at least one start
+    J, z = np.asarray(best.jac, dtype=float), np.asarray(best.fun, dtype=float)  # dense (``jac`` above)
     _, cyc = np.unique(sc.row_cycles(mask, channels), return_inverse=True)
     bread = np.linalg.pinv(J.T @ J)
     scores = np.zeros((cyc.max() + 1, J.shape[1]))  # per-cycle score vectors J_c' z_c
@@ -748,7 +749,7 @@ def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
         g = fit(sc, f.effect, f.model, mask=mask, only_effect=True)
         sizes.append(float(f.effect.size(g.theta)))
         errs.append(_size_std(f.effect, g.theta, g.stderr))
-    diff, sd = sizes[1] - sizes[0], float(np.hypot(*errs))
+    diff, sd = sizes[1] - sizes[0], float(np.hypot(errs[0], errs[1]))
     drifting = abs(diff) > max(f.floor, DRIFT_SHARE * max(sizes), 3.0 * sd)
     return {"early": sizes[0], "late": sizes[1], "std": sd, "drifting": bool(drifting)}
 

@@ -96,8 +96,8 @@ def simulate_reference(unit: UnitParams, demands: tuple[float, ...], *, cycles: 
                     rtol=1e-7, atol=1e-10)
     theta, w, i, q = (sol.y[k * n:(k + 1) * n].ravel() for k in range(4))  # cycle after cycle
     if current_sampling == "mean":  # mean over the preceding period from the charge integral
-        q = q.reshape(n, -1)
-        i = np.concatenate((q[:, :1] * 0.0, np.diff(q, axis=1) / dt), axis=1).ravel()
+        qc = q.reshape(n, -1)  # charge per cycle, one row each
+        i = np.concatenate((qc[:, :1] * 0.0, np.diff(qc, axis=1) / dt), axis=1).ravel()
     noise = SensorNoise() if noise is None else noise
     rng = np.random.default_rng(seed)
     size = theta.size

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -44,7 +45,7 @@ def _residuals(sc: Scorer, m: Model) -> tuple[np.ndarray, np.ndarray]:
     return z[:n] * sc.sigma_torque / sc.model.nominal.K_T, z[n:] * sc.sigma_force
 
 
-def residual_figure(sc: Scorer, ranking: Ranking) -> dict:
+def residual_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any]:
     """Recorded minus twin per phase on the held-out cycles (module docstring), as a Plotly figure dict."""
     mdl, b = sc.model, sc.model.blocks
     t = mdl.rec.t
@@ -56,8 +57,9 @@ def residual_figure(sc: Scorer, ranking: Ranking) -> dict:
     if ranking.explained is not None:
         names = " + ".join(f.effect.name for f in ranking.selected)
         models.append((f"twin with {names}", ranking.explained.model, BLUE))
-    data, layout = [], {"template": "plotly_white", "margin": {"l": 70, "r": 20, "t": 40, "b": 50},
-                        "legend": {"orientation": "h", "y": -0.15}, "height": 520}
+    data: list[dict[str, Any]] = []
+    layout: dict[str, Any] = {"template": "plotly_white", "margin": {"l": 70, "r": 20, "t": 40, "b": 50},
+                              "legend": {"orientation": "h", "y": -0.15}, "height": 520}
     for i, phase in enumerate(PHASES):
         for row, what in enumerate(("current", "force")):
             axis = 2 * len(PHASES) * 0 + row * len(PHASES) + i + 1
@@ -81,7 +83,7 @@ def residual_figure(sc: Scorer, ranking: Ranking) -> dict:
         layout.setdefault("annotations", []).append(
             {"text": phase.replace("_", " "), "xref": "paper", "yref": "paper", "showarrow": False,
              "x": (i + 0.5) / len(PHASES), "y": 1.06})
-    return jsonable({"data": data, "layout": layout})  # type: ignore[return-value]
+    return jsonable({"data": data, "layout": layout})
 
 
 def shrink_figure(fits: list[EffectFit]) -> dict:

@@ -121,7 +121,7 @@ class Nominal:
         m = actuator_model(unit)
         f, c = m.friction, m.clamp
         return cls(m.inertia, m.torque_constant, m.gear_ratio, m.lead, f.static, f.coulomb, f.viscous,
-                   f.load_coefficient, c.stiffness, c.clearance)
+                   f.load_coefficient, c.stiffness, float(c.clearance))
 
     @property
     def load_ratio(self) -> float:
