@@ -101,7 +101,10 @@ def shrink_figure(fits: list[EffectFit]) -> dict:
 
 
 def _quantity(value: float, std: float, unit: str) -> str:
-    """A nuisance in the units people read (ms, µm, mrad, N, A)."""
+    """A nuisance in the units people read (ms, µm, mrad, N, A); an angle beyond 10 rad (an encoder's
+    zero, many turns away) in rad with its std in mrad."""
+    if unit == "rad" and abs(value) >= 10.0:
+        return f"{value:.6g} rad" + (f" ± {std * 1e3:.2g} mrad" if np.isfinite(std) and std > 0.0 else "")
     scale, shown = {"s": (1e3, "ms"), "rad": (1e3, "mrad"), "m": (1e6, "µm")}.get(unit, (1.0, unit))
     if not np.isfinite(std) or std == 0.0:
         return f"{value * scale:.4g} {shown}"
