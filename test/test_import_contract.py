@@ -8,9 +8,11 @@ Feeder driving a MonitorCore). None of rosbags, dask, distributed, pandas or mat
 
 from __future__ import annotations
 
+import ast
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 FORBIDDEN = ("rosbags", "dask", "distributed", "pandas", "matplotlib")
 
@@ -48,3 +50,23 @@ def test_node_and_core_never_import_bag_or_fleet_libraries():
     bad = sorted(m for m in loaded if m.split(".")[0] in FORBIDDEN)
     assert bad == []
     assert "ebm_wear_monitor.ros.node" in loaded and "ebm_wear_monitor.monitor.feeder" in loaded
+
+
+#: runtime modules that are validation by nature: the diagnosis self-test (``diagnose --selftest``)
+VALIDATION_BY_NATURE = ("ebm_wear_monitor/diagnosis/selftest.py",
+                        "ebm_wear_monitor/diagnosis/foreign_selftest.py")
+
+
+def test_runtime_never_imports_the_paper_reproductions_or_the_validation_data():
+    """No module outside ``validation/`` imports it, except the self-test (issue 14 item 3)."""
+    package = Path(__file__).resolve().parents[1] / "ebm_wear_monitor"
+    offenders = []
+    for path in sorted(package.rglob("*.py")):
+        rel = path.relative_to(package.parent).as_posix()
+        if rel.startswith("ebm_wear_monitor/validation/") or rel in VALIDATION_BY_NATURE:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            offenders += [f"{rel}: {n}" for n in names if n.startswith("ebm_wear_monitor.validation")]
+    assert offenders == []

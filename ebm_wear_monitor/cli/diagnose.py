@@ -75,7 +75,8 @@ def _print_diagnosis(res: dict) -> None:
 
 
 def _life(data, unit) -> dict:
-    """Life-level diagnosis of one unit's signals: the monitor core over them, then :mod:`.life`."""
+    """Life-level diagnosis of one unit's signals: the monitor core over them, then
+    :mod:`ebm_wear_monitor.diagnosis.life`."""
     from ebm_wear_monitor.diagnosis.life import diagnose_life, life_data_from_applications
     from ebm_wear_monitor.replay.run import replay_unit
 

@@ -168,31 +168,3 @@ def diagnose_life(d: LifeData) -> dict:
     return {"verdict": verdict, "effect": top["effect"] if verdict == "effect" else None, "ranking": fits,
             "near_ties": ties, "noise_m": sigma,
             "gap_before_m": float(np.sqrt(np.mean((z0[held] * sigma) ** 2)))}
-
-
-def paper000_example(model_per_cycle: float = 1.4843e-10, observed_per_cycle: float = 1.65e-10) -> dict:
-    """000's own gap: model 1.4843e-10 m per duty cycle (Table 3, screw) against 1.65e-10 m measured.
-
-    One end-of-test average (0.033 mm after 200,000 cycles) fixes one number, the
-    ratio; each scale-type effect explains it exactly with its own parameter, and
-    only further data separates them:
-
-    * wear_coefficient: s = ratio - 1 (Archard's k 11.2 % higher than used);
-    * ball_share: (1 - 1/3) / (1 - beta) = ratio, beta = 1 - (2/3) / ratio (0.400 instead of 1/3);
-    * running_in: A = (ratio - 1) x model growth x 200,000 cycles of extra early wear
-      (3.3 um), with n_0 unidentifiable from an end point.
-    """
-    ratio = observed_per_cycle / model_per_cycle
-    cycles = 200_000
-    return {
-        "ratio": ratio,
-        "wear_coefficient": {"s": ratio - 1.0},
-        "ball_share": {"beta": 1.0 - (1.0 - BALL_SHARE_000) / ratio},
-        "running_in": {"A_m": (ratio - 1.0) * model_per_cycle * cycles, "n0_cycles": None},
-        "separating_experiments": {
-            "wear_coefficient vs running_in": "clearance at intermediate cycle counts: running-in bends the "
-                                              "growth curve early, a k change keeps it straight",
-            "wear_coefficient vs ball_share": "ball diameters at teardown (ball share of the wear)",
-            "load/speed dependence": "duty-cycle groups at different clamp forces or speeds",
-        },
-    }

@@ -129,7 +129,7 @@ class Motor:
     inductance: float  # L [H]
     inertia: float  # J_m, rotor inertia [kg m^2]
     # T_c, continuous stall torque (004 eq. 17) [N m]; 004 does not print it: the default is the
-    # value its 37.30 kN friction-free maximum clamp force implies (build/notes/twin.md)
+    # value its 37.30 kN friction-free maximum clamp force implies (README.md, paper 004 item 3)
     continuous_stall_torque: float = 2.939
 
 
@@ -156,7 +156,7 @@ class Actuator:
     stiffness: float  # K_b, clamp stiffness (004 eq. 6) [N/m]
     friction: Friction
     # E_amax, peak armature voltage of the drive (004 eq. 11) [V]; not printed in 004: 53 V reproduces
-    # its Fig. 2a (+11 % gap-closing time) and the 40 rad/s top speed of Fig. 5a (build/notes/twin.md)
+    # its Fig. 2a (+11 % gap-closing time) and the 40 rad/s top speed of Fig. 5a (README.md, paper 004 item 4)
     supply_voltage: float = 53.0
     current_limit: float = 8.0  # armature current limit of the drive [A]
 

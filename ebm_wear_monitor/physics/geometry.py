@@ -41,7 +41,7 @@ def reduced_modulus(a: Material, b: Material) -> float:
 
     This is 003 eq. 12-13, and the E' that 000 eq. 1 and eq. 6 need: with the
     Hamrock-Dowson modulus 2 E* in its place eq. 1 would give a deformation
-    2^(2/3) = 1.59 times too small (see build/notes/physics.md, trap 1).
+    2^(2/3) = 1.59 times too small (README.md, paper 000 item 1).
     """
     return 1.0 / ((1.0 - a.poisson_ratio**2) / a.elastic_modulus
                   + (1.0 - b.poisson_ratio**2) / b.elastic_modulus)

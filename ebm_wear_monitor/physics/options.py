@@ -1,8 +1,8 @@
 """Readings of the ambiguous parts of paper 000 that the model lets the caller choose.
 
-Every option is documented where it is used; build/notes/physics.md compares their
-per-cycle wear side by side. Defaults are the readings the reference parameters are
-calibrated with.
+Every option is documented where it is used; README.md ("Reading the papers critically",
+paper 000) compares their per-cycle wear side by side. Defaults are the readings the reference
+parameters are calibrated with.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """The people's view of one unit's remaining life: how worn, when due, how sure.
 
-Built from the section 4 ``remaining_life`` entry (keys of CONTRACTS.md: ``status``,
-``cycles_p05/p50/p95``, ``seconds_p05/p50/p95``, ``usage_span_s``, ``applications_per_hour``,
-``limit_m``; older entries carry ``hours_p50`` only) and the ``clearance`` entry. A key that is
-absent or null is shown as "not available", never estimated here.
+Built from the section 4 ``remaining_life`` entry (keys declared in
+:mod:`ebm_wear_monitor.schema.monitor`: ``status``, ``cycles_p05/p50/p95``, ``seconds_p05/p50/p95``,
+``usage_span_s``, ``applications_per_hour``, ``limit_m``; older entries carry ``hours_p50`` only)
+and the ``clearance`` entry. A key that is absent or null is shown as "not available", never estimated here.
 """
 
 from __future__ import annotations

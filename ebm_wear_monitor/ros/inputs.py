@@ -1,7 +1,7 @@
 """Input buffering of the node: raw CDR records in, a :class:`~ebm_wear_monitor.monitor.wire.Batch` out.
 
 At 3 x 1 kHz the Python cost per message decides whether the node keeps up
-(``shared/notes/environment.md``: 11-13 us per callback with the EventsExecutor,
+(measured with rclpy Kilted: 11-13 us per callback with the EventsExecutor,
 80 us with the SingleThreadedExecutor). So the subscriptions are ``raw=True``
 and their callback is ``list.append`` of the serialised record (no message
 object is built); a timer drains the lists at ``process_rate_hz`` and decodes

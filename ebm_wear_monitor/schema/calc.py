@@ -2,7 +2,7 @@
 
 Keys are interface.md section 4's (``normal_load_N``, ``max_pressure_Pa`` ...: the contract spells
 the unit into the name) plus the project's additions. ``physics/reports.py`` and
-``twin/closedforms.py`` build these records; the CLI writes their JSON.
+``twin/holding.py`` build these records; the CLI writes their JSON.
 """
 
 from __future__ import annotations

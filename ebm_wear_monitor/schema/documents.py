@@ -3,8 +3,8 @@
 Generated from the declarations: ``replay`` (:class:`~.replay.ReplayDocument`), ``fleet``
 (:class:`~.replay.FleetDocument`), ``calc_contact``/``calc_wear``/``calc_actuator``
 (:mod:`.calc`): every key the tools write is declared and required, no other key is allowed.
-Written from interface.md section 4 and the diagnosis contract (``/work/coord/CONTRACTS.md``:
-the diagnosis result belongs to the diagnosis, which is not declared here): ``diagnose`` and
+Written from interface.md section 4 and the diagnosis contract (README.md, "Sim-to-real gap
+diagnosis": the diagnosis result belongs to the diagnosis, which is not declared here): ``diagnose`` and
 ``selftest`` (``diagnose --selftest``): the contract's keys required, more allowed.
 
 ``python -m ebm_wear_monitor.schema`` rewrites the files; ``--check`` exits 1 when one is stale.
@@ -37,7 +37,7 @@ _SIGNALS = ["angle", "velocity", "axial_force", "current"]
 
 
 def _diagnosis() -> dict[str, Any]:
-    """One unit's diagnosis: interface.md section 4 and CONTRACTS.md (lead, issue 10)."""
+    """One unit's diagnosis: interface.md section 4 and the diagnosis contract (issue 10)."""
     magnitude = {**_ESTIMATE, "properties": {
         **_ESTIMATE["properties"], "nominal_name": {"type": ["string", "null"]},
         "nominal_value": _MAYBE_NUMBER, "fraction": _MAYBE_NUMBER}}

@@ -11,12 +11,12 @@ Public API::
     CATALOG, PHASES, SensorNoise, NOISELESS, BrakeController
 
 Modules: :mod:`.friction` (004 eq. 9), :mod:`.clamp` (eq. 5-6), :mod:`.dynamics`
-(eq. 1-8, integrator), :mod:`.components` (eq. 18-41), :mod:`.closedforms` (eq. 10-17,
-42-43), :mod:`.controller` (four phases of 000 Fig. 2), :mod:`.effects` (catalog),
-:mod:`.sensors` (noise), :mod:`.simulator` (duty cycles + wear), :mod:`.paper004`.
+(eq. 1-8, integrator), :mod:`.holding` (eq. 1, 9, 42: calc actuator), :mod:`.controller` (four
+phases of 000 Fig. 2), :mod:`.effects` (catalog), :mod:`.sensors` (noise), :mod:`.simulator`
+(duty cycles + wear). 004's own actuator, its component friction (eq. 18-41) and the closed forms
+of its figures (eq. 10-17, 43) reproduce the paper: :mod:`ebm_wear_monitor.validation.papers`.
 """
 
-from ebm_wear_monitor.twin.closedforms import actuator_torques, gap_closing, max_clamp_force
 from ebm_wear_monitor.twin.controller import PHASES, BrakeController
 from ebm_wear_monitor.twin.dynamics import (
     ActuatorModel,
@@ -27,6 +27,7 @@ from ebm_wear_monitor.twin.dynamics import (
 )
 from ebm_wear_monitor.twin.effects import CATALOG, apply_effects
 from ebm_wear_monitor.twin.friction import FrictionLaw
+from ebm_wear_monitor.twin.holding import actuator_torques
 from ebm_wear_monitor.twin.sensors import NOISELESS, SensorNoise
 from ebm_wear_monitor.twin.simulator import DEFAULT_DEMANDS, SimResult, simulate_unit
 
@@ -44,8 +45,6 @@ __all__ = [
     "actuator_model",
     "actuator_torques",
     "apply_effects",
-    "gap_closing",
-    "max_clamp_force",
     "simulate_current_driven",
     "simulate_unit",
     "simulate_voltage_driven",

@@ -9,7 +9,7 @@ gear, thrust bearing, ball screw, moving parts) as one law at the motor shaft::
 
 with the load torque ``T_L = l F_cl / (2 π i_g)``. The printed equation drops
 the lead ``l`` from ``T_L`` (it reads ``F_cl / (2 π i_g)``, a force, not a
-torque); eq. 1 has it, and this module restores it (build/notes/twin.md).
+torque); eq. 1 has it, and this module restores it (README.md, paper 004 item 1).
 
 Two optional terms extend the nominal law for the effect catalog of
 interface.md section 4 (both off by default, so the law is exactly eq. 9):

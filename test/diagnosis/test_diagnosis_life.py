@@ -3,12 +3,8 @@
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.diagnosis.life import (
-    LifeData,
-    diagnose_life,
-    life_data_from_applications,
-    paper000_example,
-)
+from ebm_wear_monitor.diagnosis.life import LifeData, diagnose_life, life_data_from_applications
+from ebm_wear_monitor.validation.papers.paper000 import paper000_example
 
 
 def _data(kind: str, seed: int = 0) -> LifeData:

@@ -14,7 +14,7 @@ import pytest
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.twin import simulate_unit
-from ebm_wear_monitor.twin.paper004 import TABLE3, TABLE4, paper_unit
+from ebm_wear_monitor.validation.papers.paper004 import TABLE3, TABLE4, paper_unit
 
 OVERSAMPLE = 8
 

@@ -7,7 +7,7 @@ import pytest
 
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.physics import clearance_growth, wear_model
-from ebm_wear_monitor.physics.dutycycle_000 import DutyCycle000, cycle_wear
+from ebm_wear_monitor.validation.papers.paper000 import DutyCycle000, cycle_wear
 
 UNIT = load_unit()
 TABLE3_SCREW, TABLE3_NUT = 1.4843e-10, 1.3787e-10  # 000 Table 3, m per duty cycle

@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.twin.components import (
+from ebm_wear_monitor.validation.papers.paper004 import TABLE3
+from ebm_wear_monitor.validation.papers.paper004_components import (
     ComponentInputs,
     bearing_torque,
     component_torques,
     screw_torque,
     system_friction,
 )
-from ebm_wear_monitor.twin.paper004 import TABLE3
 
 INPUTS = ComponentInputs()
 

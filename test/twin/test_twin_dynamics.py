@@ -13,7 +13,7 @@ from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.twin import actuator_model, simulate_current_driven, simulate_voltage_driven
 from ebm_wear_monitor.twin.dynamics import equivalent_inertia
 from ebm_wear_monitor.twin.friction import friction_torque
-from ebm_wear_monitor.twin.paper004 import paper_unit
+from ebm_wear_monitor.validation.papers.paper004 import paper_unit
 
 UNIT = paper_unit()
 MODEL = actuator_model(UNIT)

@@ -2,7 +2,8 @@
 
 Paper values are the numbers printed in 004 (Xia & Deng); the twin computes them from
 Table 1 / Table 3 through its own equations or its integrator. Resolutions of the
-paper's printing problems are in build/notes/twin.md and ebm_wear_monitor/twin/closedforms.py.
+paper's printing problems are in README.md ("Reading the papers critically", paper 004) and
+ebm_wear_monitor/validation/papers/paper004.py.
 """
 
 from __future__ import annotations
@@ -14,20 +15,20 @@ import numpy as np
 import pytest
 
 from ebm_wear_monitor.params import load_unit
-from ebm_wear_monitor.twin import actuator_model, actuator_torques, gap_closing, max_clamp_force
+from ebm_wear_monitor.twin import actuator_model, actuator_torques
 from ebm_wear_monitor.twin.clamp import series_stiffness
-from ebm_wear_monitor.twin.closedforms import (
-    energy_balance,
-    max_clamp_force_printed,
-    stall_torque_from_force,
-)
 from ebm_wear_monitor.twin.dynamics import simulate_voltage_driven
 from ebm_wear_monitor.twin.friction import friction_law
-from ebm_wear_monitor.twin.paper004 import (
+from ebm_wear_monitor.validation.papers.paper004 import (
     CALIPER_STIFFNESS,
     PAD_STIFFNESS,
     SCREW_STIFFNESS,
+    energy_balance,
+    gap_closing,
+    max_clamp_force,
+    max_clamp_force_printed,
     paper_unit,
+    stall_torque_from_force,
 )
 
 UNIT = paper_unit()
@@ -51,7 +52,7 @@ def test_load_friction_and_motor_torque_at_30kN():
 def test_transfer_ratio_is_half_at_the_papers_5_9_kN():
     # Sec. 4.1: below 5.9 kN less than 50 % of the motor torque reaches the load. That figure holds
     # with the breakaway level T_fs + G F (the printed formula), while the 73.56 % at 30 kN holds with
-    # T_fc + G F: the paper mixes the two (build/notes/twin.md)
+    # T_fc + G F: the paper mixes the two (README.md, paper 004 item 2)
     def static_ratio(force):
         tq = actuator_torques(UNIT, force)
         return tq.load_torque_Nm / (tq.load_torque_Nm + tq.static_friction_torque_Nm)

@@ -1,4 +1,7 @@
-"""Component friction of the actuator and the system law it sums to (004 Sec. 3, eq. 18-41).
+"""Paper 004 reproduced: component friction of its actuator and the system law it sums to (Sec. 3, eq. 18-41).
+
+Used to reproduce 004 Table 3 and Fig. 5-6 from components (the twin takes the eq. 9 law from the
+unit file, :mod:`ebm_wear_monitor.twin.friction`).
 
 Motor (eq. 18, Table 2 measured), moving parts (eq. 20-22), SKF thrust-bearing
 model (eq. 23-25), ball screw with preload and forward/reverse efficiency
