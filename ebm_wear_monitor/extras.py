@@ -1,7 +1,7 @@
 """What each install of ebm_wear_monitor needs from PyPI: one list, read by setup.py, the tools and the tests.
 
 * ``pip install .``: the onboard node (``ebm-wear-monitor``, the monitor core, ``ebm-wear calc``,
-  the listener) with :data:`ONBOARD` only: numpy, scipy, PyYAML.
+  the listener) with :data:`ONBOARD` only: numpy, scipy, PyYAML, filterpy (which pulls matplotlib).
 * ``pip install '.[tools]'``: adds :data:`TOOLS`, what ``ebm-wear replay|fleet|diagnose|simulate``,
   the reports, the bag player and the foreign-world generator import.
 * ``pip install '.[test]'``: the tools plus :data:`TEST`, what the test suite imports or runs.
@@ -49,6 +49,9 @@ ONBOARD: tuple[Requirement, ...] = (
     Requirement("numpy", ">=1.26", ("numpy",)),
     Requirement("scipy", ">=1.11", ("scipy",)),
     Requirement("pyyaml", ">=6.0", ("yaml",)),
+    # the monitor's bank of Kalman filters (monitor/kalman.py); filterpy 2.0.0 declares matplotlib as an
+    # install requirement, so pip brings matplotlib too (no module of this package imports it)
+    Requirement("filterpy", ">=2.0.0", ("filterpy",)),
 )
 
 #: replay, fleet, diagnose, simulate, reports, player, foreign-world generator: the ``tools`` extra
@@ -72,7 +75,6 @@ TEST: tuple[Requirement, ...] = (
     Requirement("hypothesis", ">=6.100", ("hypothesis",)),
     Requirement("mcap", ">=1.2", ("mcap",)),  # an independent MCAP writer for the reader tests
     Requirement("jsonschema", ">=4.20", ("jsonschema",)),  # the JSON Schema files against real outputs
-    Requirement("filterpy", ">=2.0.0", ("filterpy",)),  # reference Kalman filter of the monitor tests
     Requirement("playwright", ">=1.40", ("playwright",)),  # the reports' browser test
     Requirement("ruff", ">=0.6", ("ruff",)),  # test_package_layout runs it
     Requirement("mypy", ">=1.18", ("mypy",)),  # test_types runs it, with these stubs (no import names)

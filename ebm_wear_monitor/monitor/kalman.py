@@ -92,6 +92,14 @@ pseudo-observations at beta = 1.
 Update in Joseph form, per component: K = P H' / S, x += K y,
 P = (I - K H) P (I - K H)' + K beta R K'.
 
+Each component's predict and update are filterpy's (``filterpy.kalman.predict`` / ``update``,
+Labbe, *Kalman and Bayesian Filters in Python*): x <- F x + B u, P <- F P F' (the process noise
+Q_k above is added after it, since its rate term scales with the predicted r), and the Joseph-form
+update with R = beta R_k. The bank around them is ours: the hypotheses' F and B, the weights, the
+noise scale, the mixture. filterpy's package import pulls scipy.stats (about 0.7 s), so it is
+imported on the first filter step (:func:`load_filterpy`), not with this module: a tool that never
+filters does not pay for it, and the node calls it before it subscribes.
+
 The clearance estimate reported is the mixture mean sum_i w_i c_i with the
 mixture variance sum_i w_i (P_i,cc + (c_i - c)^2). Outliers, steps of the
 clearance and changes of the growth rate are handled around this bank by
@@ -102,6 +110,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -114,6 +123,15 @@ _LOG_2PI = math.log(2.0 * math.pi)
 DIM = 3  # [c, r, a]
 #: components: the model, then (steady, each exponential, constant acceleration) x (steady, wandering rate)
 COMPONENTS = 1 + 2 * (len(E_FOLDING_RATES) + 2)
+_H = np.array([[1.0, 0.0, 0.0]])  # observation matrix: the clearance is observed
+
+
+def load_filterpy() -> ModuleType:
+    """``filterpy.kalman``, imported on first use (its package import pulls scipy.stats)."""
+    import filterpy.kalman
+
+    module: ModuleType = filterpy.kalman
+    return module
 
 
 @dataclass(frozen=True)
@@ -154,7 +172,8 @@ class Hypotheses:
         return len(self.rho)
 
     def transition(self, growth_m: float) -> tuple[np.ndarray, np.ndarray]:
-        """(F, B g) per component for an application of model growth ``growth_m`` [m]: (M, 3, 3), (M, 3)."""
+        """(F, B) per component for an application of model growth ``growth_m`` [m]: (M, 3, 3), (M, 3, 1);
+        the control input is u = [g] (B = [1, 0, 0]' for the data-driven components, 0 for the model)."""
         m = self.size
         F = np.zeros((m, DIM, DIM))
         F[:, 0, 0] = F[:, 2, 2] = 1.0
@@ -162,9 +181,9 @@ class Hypotheses:
         F[:, 0, 1] = np.where(self.model, growth_m, 1.0)
         F[self.accel, 0, 2] = 0.5
         F[self.accel, 1, 2] = 1.0
-        u = np.zeros((m, DIM))
-        u[~self.model, 0] = growth_m
-        return F, u
+        B = np.zeros((m, DIM, 1))
+        B[~self.model, 0, 0] = 1.0
+        return F, B
 
     def projection(self, n: np.ndarray, mean_growth_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per component: (h1, h2, o),
@@ -237,10 +256,13 @@ class Bank:
         return self.noise_sum / self.noise_count
 
     def predict(self, hyp: Hypotheses, config: MonitorConfig, growth_m: float) -> np.ndarray:
-        """x <- F x + B g, P <- F P F' + Q for one application; returns F (M, 3, 3)."""
-        F, u = hyp.transition(growth_m)
-        self.x = np.einsum("mij,mj->mi", F, self.x) + u
-        self.P = F @ self.P @ F.transpose(0, 2, 1)
+        """x <- F x + B g, P <- F P F' (filterpy, per component), then P += Q for one application;
+        returns F (M, 3, 3)."""
+        kalman = load_filterpy()
+        F, B = hyp.transition(growth_m)
+        u = np.array([growth_m])
+        for i in range(hyp.size):
+            self.x[i], self.P[i] = kalman.predict(self.x[i], self.P[i], F[i], 0.0, u, B[i])
         self.P[:, 0, 0] += (config.growth_scatter * growth_m) ** 2
         rate_noise = np.where(hyp.model, config.factor_drift_per_cycle, hyp.wander * np.abs(self.x[:, 1]))
         self.P[:, 1, 1] += rate_noise ** 2
@@ -255,15 +277,17 @@ class Bank:
         """(y, S) per component: residual z - c [m] and its variance P_cc + beta R [m^2]."""
         return observed_m - self.x[:, 0], self.P[:, 0, 0] + self.noise_scale * budget_var_m2
 
-    def update(self, config: MonitorConfig, budget_var_m2: float, y: np.ndarray, S: np.ndarray) -> np.ndarray:
-        """Fuse one observation (innovations from :meth:`innovation`); returns the gains K (M, 3)."""
+    def update(self, config: MonitorConfig, observed_m: float, budget_var_m2: float, y: np.ndarray,
+               S: np.ndarray) -> np.ndarray:
+        """Fuse the observation ``observed_m`` [m] (innovations y, S from :meth:`innovation`): filterpy's
+        Joseph-form update per component with H = [1, 0, 0], R = beta R_k; returns the gains
+        K = P H' / S (M, 3) of the prior P."""
+        kalman = load_filterpy()
         prior_cc = self.P[:, 0, 0].copy()
-        r = S - prior_cc
         K: np.ndarray = self.P[:, :, 0] / S[:, None]
-        self.x = self.x + K * y[:, None]
-        A = np.broadcast_to(np.eye(DIM), self.P.shape).copy()
-        A[:, :, 0] -= K
-        self.P = A @ self.P @ A.transpose(0, 2, 1) + r[:, None, None] * K[:, :, None] * K[:, None, :]
+        z, R = np.array([observed_m]), np.array([[self.noise_scale * budget_var_m2]])
+        for i in range(self.x.shape[0]):
+            self.x[i], self.P[i] = kalman.update(self.x[i], self.P[i], z, R, _H)
         self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
         self.logw = self.logw - 0.5 * (_LOG_2PI + np.log(S) + y * y / S)
         w = self.weights()

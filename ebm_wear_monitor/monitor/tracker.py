@@ -200,7 +200,7 @@ class ClearanceTracker:
         y, S = bank.innovation(rec.observed_m, rec.budget_var_m2)
         if np.all(np.abs(y) > cfg.innovation_gate_sigma * np.sqrt(S)):
             return F, None, y, S, float(np.sign(y[int(np.argmax(bank.logw))])), REJECTED
-        return F, bank.update(cfg, rec.budget_var_m2, y, S), y, S, 0.0, FUSED
+        return F, bank.update(cfg, rec.observed_m, rec.budget_var_m2, y, S), y, S, 0.0, FUSED
 
     def _apply(self, bank: Bank, rec: Record) -> str:
         """:meth:`_filter` plus the GLR sums of every candidate in the window (item 3)."""

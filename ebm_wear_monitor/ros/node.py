@@ -54,6 +54,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from ebm_wear_monitor.errors import InputError, exit_status
 from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore, MonitorState, load_state
+from ebm_wear_monitor.monitor.kalman import load_filterpy
 from ebm_wear_monitor.monitor.persistence import backup_path
 from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS
 from ebm_wear_monitor.params import UnitParams, load_unit
@@ -141,6 +142,7 @@ class WearMonitorNode:
         # the core saves the state atomically every checkpoint_every_cycles applications, before
         # returning them: a published application is never newer than what a restart resumes from
         self.core = MonitorCore(self.unit, params.monitor_config, state, state_path=self.state_path)
+        load_filterpy()  # the Kalman filters' library now, not in the timer at the first application
         self.feeder = Feeder(self.core)
         params.listeners.append(self.on_parameters)
         self.core_errors = 0

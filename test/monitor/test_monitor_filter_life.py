@@ -77,11 +77,37 @@ def test_every_component_step_is_the_textbook_kalman_filter():
             rate_q = config.factor_drift_per_cycle if hyp.model[i] else hyp.wander[i] * abs(kf.x[1, 0])
             kf.P += np.diag([(config.growth_scatter * g) ** 2, rate_q ** 2, 0.0])
         y, S = bank.innovation(z, r)
-        bank.update(config, r, y, S)
+        bank.update(config, z, r, y, S)
         for i, kf in zip(picks, refs, strict=True):
             kf.update(np.array([[z]]), R=np.array([[r]]))
             assert bank.x[i] == pytest.approx(kf.x[:, 0], rel=1e-6, abs=1e-18)
             assert bank.P[i] == pytest.approx(kf.P, rel=1e-5, abs=1e-24)
+
+
+def test_steady_component_is_the_least_squares_line_with_its_prior():
+    """Independent of filterpy and of the bank: with no model growth (g = 0, so Q = 0) the steady
+    component's posterior is the closed-form Bayesian line fit z_k = c_0 + k r + v_k, v_k ~ N(0, R),
+    with the prior c_0 ~ N(X0, P0), r ~ N(0, s^2): information Lambda = diag(1/P0, 1/s^2) + sum h h' / R,
+    h = [1, k], mean Lambda^-1 (prior information + sum h z_k / R); then c_N = c_0 + N r."""
+    config = MonitorConfig(noise_scale_prior_cycles=1e9)  # noise scale stays 1: R = the budget
+    hyp = Hypotheses.build(config)
+    steady = 1
+    assert hyp.rho[steady] == 1.0 and not hyp.accel[steady] and hyp.wander[steady] == 0.0
+    p0, s, r_var, n = 1e-10, 3e-5, (1e-6) ** 2, 60
+    bank = Bank.prior(hyp, config, X0, p0, s)
+    rng = np.random.default_rng(5)
+    z = X0 + 2e-7 * np.arange(1, n + 1) + rng.normal(0.0, 1e-6, n)
+    for k in range(n):
+        bank.predict(hyp, config, 0.0)
+        y, S = bank.innovation(z[k], r_var)
+        bank.update(config, z[k], r_var, y, S)
+    h = np.column_stack([np.ones(n), np.arange(1.0, n + 1)])
+    info = np.diag([1.0 / p0, 1.0 / s ** 2]) + h.T @ h / r_var
+    cov = np.linalg.inv(info)
+    theta = cov @ (np.array([X0 / p0, 0.0]) + h.T @ z / r_var)
+    to_last = np.array([[1.0, float(n)], [0.0, 1.0]])
+    assert bank.x[steady, :2] == pytest.approx(to_last @ theta, rel=1e-9)
+    assert bank.P[steady, :2, :2] == pytest.approx(to_last @ cov @ to_last.T, rel=1e-7)
 
 
 @pytest.mark.parametrize("multiple", [0.0, 1.0, 1e3, 1e5, 1e6])
