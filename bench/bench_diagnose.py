@@ -63,8 +63,8 @@ def speed(seconds: float) -> None:
     res, t_diag, c_diag = timed(diagnose_recording, rec, unit)
     _, t_base, c_base = timed(simulate_current_driven, unit, rec.t, rec.current)
     span = rec.t[-1] - rec.t[0]
-    print(f"recording: {span:.1f} s at 1 kHz, {rec.t.size} samples, {res['cycles']['total']} applications; "
-          f"verdict {res['verdict']} ({res['effect']}); {res['summary']}")
+    print(f"recording: {span:.1f} s at 1 kHz, {rec.t.size} samples, {res.cycles.total} applications; "
+          f"verdict {res.verdict} ({res.effect}); {res.summary}")
     print(f"{'':58s}{'wall':>9s}{'CPU':>9s}  ratio (CPU)")
     print(f"{'baseline: one current-driven twin simulation of it':58s}{t_base:8.2f}s{c_base:8.2f}s  1.00")
     print(f"{'bag read, screening, resample':58s}{t_read:8.2f}s{c_read:8.2f}s  {c_read / c_base:.2f}")
@@ -77,15 +77,16 @@ def selftest(jobs: int, out: str | None) -> None:
 
     result, wall, _cpu = timed(run_selftest, quick=False, jobs=jobs)
     print(format_summary(result))
-    f = result["foreign"]
+    f = result.foreign
+    assert f is not None  # run with the foreign world
     print(f"\nforeign targets ({wall:.0f} s wall):")
     for key, target in TARGETS.items():
-        value = f[key]
+        value = getattr(f, key)
         ok = value is not None and (value <= target if key in AT_MOST else value >= target)
         print(f"  {key:26s} {value if value is None else round(value, 3)!s:>8s}   target "
               f"{'<=' if key in AT_MOST else '>='} {target:.3g}   {'met' if ok else 'NOT met'}")
     if out:
-        Path(out).write_text(json.dumps(result, indent=1, default=float), encoding="utf-8")
+        Path(out).write_text(json.dumps(result.to_json_dict(), indent=1), encoding="utf-8")
 
 
 def main() -> None:

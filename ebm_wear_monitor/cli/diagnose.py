@@ -26,6 +26,7 @@ from pathlib import Path
 from ebm_wear_monitor.cli.options import add_output_options, check_outputs, progress
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.outputs import write_json
+from ebm_wear_monitor.schema.diagnose import DiagnoseDocument, LifeDiagnosis, LifeFit, UnitDiagnosis
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -47,43 +48,47 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="self-test: base random seed")
 
 
-def _print_diagnosis(res: dict) -> None:
-    print(f"{res['unit']}: verdict {res['verdict']}"
-          + (f", effect {res['effect']}" if res["effect"] else "")
-          + f"; held-out gap ({res['metric']}) {res['gap_before']:.3g} -> {res['gap_after']:.3g}")
-    w = res["where"]
-    if w["phase"]:
-        print(f"  where: {w['phase']} / {w['signal']} (RMS {w['normalised_rms']:.3g} x noise)")
-    for r in res["ranking"]:
-        pars = ", ".join(f"{k}={v['value']:.4g}±{v['stderr']:.2g} {v['unit']}"
-                         for k, v in r["parameters"].items())
-        print(f"  {r['effect']:<24s} score {r['score']:+.3f}  gap_after {r['gap_after']:.3g}  "
-              f"p {r['p_value']:.2g}  {pars}")
-    for t in res["near_ties"]:
-        print(f"  near-tie {t['between'][0]} ~ {t['between'][1]}: {t['experiment']}")
-    if res["input_faults"]:
+def _print_diagnosis(u: UnitDiagnosis) -> None:
+    res = u.diagnosis
+    print(f"{res.unit}: verdict {res.verdict}"
+          + (f", effect {res.effect}" if res.effect else "")
+          + f"; held-out gap ({res.metric}) {res.gap_before:.3g} -> {res.gap_after:.3g}")
+    w = res.where
+    if w.phase:
+        print(f"  where: {w.phase} / {w.signal} (RMS {w.normalised_rms:.3g} x noise)")
+    for r in res.ranking:
+        pars = ", ".join(f"{k}={v.value:.4g}±{v.stderr:.2g} {v.unit}" for k, v in r.parameters.items())
+        print(f"  {r.effect:<24s} score {r.score:+.3f}  gap_after {r.gap_after:.3g}  "
+              f"p {r.p_value:.2g}  {pars}")
+    for t in res.near_ties:
+        print(f"  near-tie {t.between[0]} ~ {t.between[1]}: {t.experiment}")
+    if u.input_faults:
         print("  input faults (samples dropped): " + ", ".join(
-            f"{sig} {kind} {n}" for sig, kinds in sorted(res["input_faults_by_signal"].items())
+            f"{sig} {kind} {n}" for sig, kinds in sorted(u.input_faults_by_signal.items())
             for kind, n in sorted(kinds.items())))
-    life = res.get("life")
+    life = u.life
     if life is not None:
-        top = life["ranking"][0]
-        print(f"  life ({life['summaries']} duty-cycle summaries): verdict {life['verdict']}"
-              + (f", effect {life['effect']}" if life["effect"] else "")
-              + f"; best {top['effect']} {', '.join(f'{v:.4g}' for v in top['parameters'])}"
-              + (f"; near-ties {', '.join(life['near_ties'])}" if life["near_ties"] else ""))
+        top = life.ranking[0]
+        print(f"  life ({life.summaries} duty-cycle summaries): verdict {life.verdict}"
+              + (f", effect {life.effect}" if life.effect else "")
+              + f"; best {top.effect} {', '.join(f'{v:.4g}' for v in top.parameters)}"
+              + (f"; near-ties {', '.join(life.near_ties)}" if life.near_ties else ""))
 
 
-def _life(data, unit) -> dict:
+def _life(data, unit) -> LifeDiagnosis:
     """Life-level diagnosis of one unit's signals: the monitor core over them, then
     :mod:`ebm_wear_monitor.diagnosis.life`."""
     from ebm_wear_monitor.diagnosis.life import diagnose_life, life_data_from_applications
     from ebm_wear_monitor.replay.run import replay_unit
 
     d = life_data_from_applications(replay_unit(data, unit).applications)
-    return diagnose_life(d) | {"summaries": int(d.n.size),
-                               "source": "monitor core duty-cycle summaries (clearance observed per "
-                                         "application vs the wear model's growth)"}
+    res = diagnose_life(d)
+    return LifeDiagnosis(
+        verdict=res["verdict"], effect=res["effect"], ranking=[LifeFit(**f) for f in res["ranking"]],
+        near_ties=res["near_ties"], noise_m=res["noise_m"], gap_before_m=res["gap_before_m"],
+        summaries=int(d.n.size),
+        source="monitor core duty-cycle summaries (clearance observed per application vs the wear model's "
+               "growth)")
 
 
 def _run_selftest(args: argparse.Namespace) -> int:
@@ -101,7 +106,7 @@ def _run_selftest(args: argparse.Namespace) -> int:
                               foreign=not args.in_world_only, jobs=args.jobs)
     print(format_summary(result))
     if args.json:
-        write_json(args.json, result)
+        write_json(args.json, result.to_json_dict())
     return 0
 
 
@@ -127,21 +132,17 @@ def run(args: argparse.Namespace) -> int:
     with progress(args, len(units), "diagnose", "unit") as bar:
         for ur in units.values():
             res, sc, ranking = diagnose_with_state(ur.recording, unit)
-            res["input_faults_by_signal"] = ur.faults
-            res["input_faults"] = ur.fault_totals
-            if args.life:
-                res["life"] = _life(ur.data, unit)
-            results.append(res)
-            states.append((res, sc, ranking))
+            u = UnitDiagnosis(res, ur.faults, ur.fault_totals, _life(ur.data, unit) if args.life else None)
+            results.append(u)
+            states.append((u, sc, ranking))
             bar.update()
-    for res in results:
-        _print_diagnosis(res)
-    out = dict(results[0]) | {"units": results}
+    for u in results:
+        _print_diagnosis(u)
     if args.report:
         from ebm_wear_monitor.diagnosis.report import write_report
 
         write_report(args.report, states)
         print(f"report: {Path(args.report) / 'index.html'}")
     if args.json:
-        write_json(args.json, out)
+        write_json(args.json, DiagnoseDocument(results[0], results).to_json_dict())
     return 0

@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.schema.diagnose import Magnitude
 
 
 @dataclass(frozen=True)
@@ -83,17 +84,16 @@ class Effect:
         """Number of fitted parameters."""
         return len(self.params)
 
-    def magnitude(self, theta: np.ndarray, stderr: np.ndarray) -> dict[str, dict]:
+    def magnitude(self, theta: np.ndarray, stderr: np.ndarray) -> dict[str, Magnitude]:
         """Parameters in physical units, each also as a fraction of the nominal quantity it changes."""
         out = {}
         for i, (p, u) in enumerate(zip(self.params, self.units, strict=True)):
-            entry = {"value": float(theta[i]), "std": float(stderr[i]), "unit": u}
             ref = self.nominal[i] if i < len(self.nominal) else None
             if ref is not None and ref[1] != 0.0:
-                entry |= {"nominal_name": ref[0], "nominal_value": ref[1],
-                          "fraction": float(theta[i] / ref[1]),
-                          "fraction_std": float(stderr[i] / abs(ref[1]))}
-            out[p] = entry
+                out[p] = Magnitude(float(theta[i]), float(stderr[i]), u, ref[0], ref[1],
+                                   float(theta[i] / ref[1]), float(stderr[i] / abs(ref[1])))
+            else:
+                out[p] = Magnitude(float(theta[i]), float(stderr[i]), u)
         return out
 
 

@@ -61,6 +61,7 @@ from ebm_wear_monitor.diagnosis.noise import MAD_TO_SIGMA, signal_noise
 from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
+from ebm_wear_monitor.schema.diagnose import Estimate
 
 REST_WINDOW_S = 0.02  # idle time before an application over which its rest angle is taken [s]
 SETTLE_S = 0.01  # idle time after a release left out of the tare [s]
@@ -90,18 +91,6 @@ def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
         out.append((first, int(a), int(b)))
         previous = first
     return out
-
-
-@dataclass(frozen=True)
-class Estimate:
-    """A convention estimated from the data: value, standard deviation, SI unit."""
-
-    value: float
-    std: float
-    unit: str
-
-    def as_dict(self) -> dict:
-        return {"value": self.value, "std": self.std, "unit": self.unit}
 
 
 @dataclass(frozen=True)

@@ -37,6 +37,7 @@ import numpy as np
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams, load_unit
+from ebm_wear_monitor.schema.diagnose import Confusion, ForeignCaseResult, ForeignCounts, ForeignSelftest
 
 if TYPE_CHECKING:
     from ebm_wear_monitor.validation.foreign import Case
@@ -55,7 +56,7 @@ def _truth(bag: Path) -> dict:
             "outside": sorted(d["name"] for d in foreign.get("effects_detail", []) if not d.get("catalog"))}
 
 
-def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> dict:
+def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> ForeignCaseResult:
     """Write one foreign case as a bag, diagnose it from disk, and score the answer against its truth."""
     from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
     from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
@@ -69,36 +70,37 @@ def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> d
         rec = recordings_from_bags([bag])[truth["unit"]].recording
         res = diagnose_recording(rec, unit)
     except InputError as exc:  # a recording the diagnosis refuses is a failed case, not an aborted test
-        return {"case": bag.name, "kind": truth["kind"], "true": "+".join(truth["truth"]) or truth["kind"],
-                "effects_true": truth["truth"], "relative_change": truth["relative_change"],
-                "verdict": "error", "diagnosed": "error", "error": str(exc), "effects": [], "top2": [],
-                "gap_before": 0.0, "gap_after": 0.0, "shrink": 0.0, "top1_ok": False, "top2_ok": False,
-                "pair_ok": False, "where": [None, None], "seconds": time.perf_counter() - t0}
-    ranked = [r["effect"] for r in res["ranking"]]
+        return ForeignCaseResult(
+            case=bag.name, kind=truth["kind"], true="+".join(truth["truth"]) or truth["kind"],
+            effects_true=truth["truth"], relative_change=truth["relative_change"],
+            verdict="error", diagnosed="error", error=str(exc), effects=[], top2=[],
+            gap_before=0.0, gap_after=0.0, shrink=0.0, top1_ok=False, top2_ok=False,
+            pair_ok=False, where=[None, None], seconds=time.perf_counter() - t0)
+    ranked = [r.effect for r in res.ranking]
     expected = set(truth["truth"])
     kind = truth["kind"]
-    answer = res["effect"] if res["verdict"] == "effect" else res["verdict"]
-    return {
-        "case": bag.name, "kind": kind, "true": "+".join(truth["truth"]) or ("none" if kind == "none"
-                                                                             else "+".join(truth["outside"])),
-        "effects_true": truth["truth"], "relative_change": truth["relative_change"],
-        "verdict": res["verdict"], "diagnosed": answer, "effects": res["effects"], "top2": ranked[:2],
-        "gap_before": res["gap_before"], "gap_after": res["gap_after"], "shrink": res["shrink"],
-        "top1_ok": bool(expected) and res["effect"] in expected,
-        "top2_ok": bool(expected) and bool(expected & set(ranked[:2])),
-        "pair_ok": kind == "pair" and set(res["effects"]) == expected,
-        "where": [res["where"]["phase"], res["where"]["signal"]],
-        "seconds": time.perf_counter() - t0,
-    }
+    return ForeignCaseResult(
+        case=bag.name, kind=kind, true="+".join(truth["truth"]) or ("none" if kind == "none"
+                                                                    else "+".join(truth["outside"])),
+        effects_true=truth["truth"], relative_change=truth["relative_change"],
+        verdict=res.verdict, diagnosed=(res.effect if res.verdict == "effect" else None) or res.verdict,
+        error=None, effects=res.effects, top2=ranked[:2],
+        gap_before=res.gap_before, gap_after=res.gap_after, shrink=res.shrink,
+        top1_ok=bool(expected) and res.effect in expected,
+        top2_ok=bool(expected) and bool(expected & set(ranked[:2])),
+        pair_ok=kind == "pair" and set(res.effects) == expected,
+        where=[res.where.phase, res.where.signal],
+        seconds=time.perf_counter() - t0)
 
 
 def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1,
-                unit: UnitParams | None = None, on_case: Callable[[int, int], object] | None = None) -> dict:
+                unit: UnitParams | None = None, on_case: Callable[[int, int], object] | None = None
+                ) -> ForeignSelftest:
     """The foreign-world self-test: every case of the generator's quick or full set (module docstring)."""
     from ebm_wear_monitor.validation.foreign import case_set
 
     cases = case_set("quick" if quick else "full")[:max_cases]
-    rows: list[dict] = []
+    rows: list[ForeignCaseResult] = []
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="ebm-foreign-") as tmp:
         if jobs <= 1:
@@ -113,40 +115,40 @@ def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1
                     rows.append(fut.result())
                     if on_case is not None:
                         on_case(len(rows), len(cases))
-    rows.sort(key=lambda r: r["case"])
+    rows.sort(key=lambda r: r.case)
     return score(rows, time.perf_counter() - t0)
 
 
-def score(rows: list[dict], seconds: float) -> dict:
+def score(rows: list[ForeignCaseResult], seconds: float) -> ForeignSelftest:
     """Scores of the foreign self-test rows (module docstring)."""
-    def rate(sel: list[dict], ok: Callable[[dict], bool]) -> float | None:
+    from ebm_wear_monitor.diagnosis.selftest import count
+
+    def rate(sel: list[ForeignCaseResult], ok: Callable[[ForeignCaseResult], bool]) -> float | None:
         return float(np.mean([ok(r) for r in sel])) if sel else None
 
-    def small(r: dict) -> bool:
-        return max(abs(v or 0.0) for v in r["relative_change"].values()) < SMALL
+    def small(r: ForeignCaseResult) -> bool:
+        return max(abs(v or 0.0) for v in r.relative_change.values()) < SMALL
 
-    single = [r for r in rows if r["kind"] == "effect"]
-    pairs = [r for r in rows if r["kind"] == "pair"]
-    null = [r for r in rows if r["kind"] == "none"]
-    outside = [r for r in rows if r["kind"] == "outside"]
-    confusion: dict[str, dict[str, int]] = {}
+    single = [r for r in rows if r.kind == "effect"]
+    pairs = [r for r in rows if r.kind == "pair"]
+    null = [r for r in rows if r.kind == "none"]
+    outside = [r for r in rows if r.kind == "outside"]
+    confusion: Confusion = {}
     for r in rows:
-        row = confusion.setdefault(r["true"], {})
-        row[r["diagnosed"]] = row.get(r["diagnosed"], 0) + 1
-    shrink = [r["shrink"] for r in single + pairs]
-    return {
-        "cases": len(rows),
-        "top1_accuracy": rate([r for r in single if not small(r)], lambda r: r["top1_ok"]),
-        "top1_accuracy_small": rate([r for r in single if small(r)], lambda r: r["top1_ok"]),
-        "top2_accuracy": rate(single + pairs, lambda r: r["top2_ok"]),
-        "false_positive_rate": rate(null, lambda r: r["verdict"] != "none"),
-        "median_shrink": float(np.median(shrink)) if shrink else None,
-        "unexplained_accuracy": rate(outside, lambda r: r["verdict"] == "unexplained"),
-        "catalog_unexplained_rate": rate(single + pairs, lambda r: r["verdict"] == "unexplained"),
-        "pair_accuracy": rate(pairs, lambda r: r["pair_ok"]),
-        "counts": {"none": len(null), "single": len(single), "single_small": sum(map(small, single)),
-                   "pairs": len(pairs), "outside": len(outside)},
-        "confusion": confusion,
-        "seconds": seconds,
-        "case_results": rows,
-    }
+        count(confusion, r.true, r.diagnosed)
+    shrink = [r.shrink for r in single + pairs]
+    return ForeignSelftest(
+        cases=len(rows),
+        top1_accuracy=rate([r for r in single if not small(r)], lambda r: r.top1_ok),
+        top1_accuracy_small=rate([r for r in single if small(r)], lambda r: r.top1_ok),
+        top2_accuracy=rate(single + pairs, lambda r: r.top2_ok),
+        false_positive_rate=rate(null, lambda r: r.verdict != "none"),
+        median_shrink=float(np.median(shrink)) if shrink else None,
+        unexplained_accuracy=rate(outside, lambda r: r.verdict == "unexplained"),
+        catalog_unexplained_rate=rate(single + pairs, lambda r: r.verdict == "unexplained"),
+        pair_accuracy=rate(pairs, lambda r: r.pair_ok),
+        counts=ForeignCounts(none=len(null), single=len(single), single_small=sum(map(small, single)),
+                             pairs=len(pairs), outside=len(outside)),
+        confusion=confusion,
+        seconds=seconds,
+        case_results=rows)

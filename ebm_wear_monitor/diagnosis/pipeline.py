@@ -42,6 +42,7 @@ from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording
 from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, Nominal, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.params import UnitParams
+from ebm_wear_monitor.schema.diagnose import Cycles, DiagnosisResult, Estimate, FrictionRefit
 
 RESIDUAL_METHOD = ("torque balance of 004 eq. 1 re-anchored to the recorded state every block "
                    "(integrated current vs the speed change of the angle) and force-travel law of 004 eq. 5 "
@@ -74,8 +75,8 @@ def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
     return sc, rank(sc, catalog)
 
 
-def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> dict:
-    """Diagnosis JSON object of one unit's recording (interface.md section 4, with extra keys)."""
+def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> DiagnosisResult:
+    """Diagnosis of one unit's recording (interface.md section 4, with extra keys; ``.to_json_dict()``)."""
     return diagnose_with_state(rec, unit, block_s)[0]
 
 
@@ -89,12 +90,13 @@ def describe(f: EffectFit) -> str:
     words = e.meaning.split(" (")[0]
     if e.name == "clearance_growth":
         m = mag["dx"]
-        return (f"{words}: {m['value'] * 1e6:+.1f} µm ± {m['std'] * 1e6:.1f} µm "
-                f"({_percent(m['fraction'])} of the nominal clearance x_ag)")
+        assert m.fraction is not None  # x_ag is its nominal quantity
+        return (f"{words}: {m.value * 1e6:+.1f} µm ± {m.std * 1e6:.1f} µm "
+                f"({_percent(m.fraction)} of the nominal clearance x_ag)")
     first = mag[e.params[0]]
-    if "fraction" in first:
-        return (f"{words}: {_percent(first['fraction'])} ± {100.0 * first['fraction_std']:.0f} % "
-                f"of {first['nominal_name']}")
+    if first.fraction is not None and first.fraction_std is not None:
+        return (f"{words}: {_percent(first.fraction)} ± {100.0 * first.fraction_std:.0f} % "
+                f"of {first.nominal_name}")
     return f"{words}: {100.0 * f.size:.1f} % ± {100.0 * f.size_std:.1f} % ({e.size_meaning})"
 
 
@@ -115,16 +117,16 @@ def summary(ranking: Ranking) -> str:
             "within tolerance); no effect is both significant and above its detectability floor.")
 
 
-def nuisance_report(sc: Scorer) -> dict[str, dict]:
+def nuisance_report(sc: Scorer) -> dict[str, Estimate]:
     """Every acquisition convention estimated from the data: value, std, unit (interface.md section 4)."""
-    out = {name: e.as_dict() for name, e in sc.model.conv.estimates.items()}
+    out = dict(sc.model.conv.estimates)
     for name, value in nuisances_of(sc.base.aug).items():
-        out[name] = {"value": value, "std": sc.base_std.get(name, float("nan")), "unit": NUISANCE_UNITS[name]}
+        out[name] = Estimate(value, sc.base_std.get(name, float("nan")), NUISANCE_UNITS[name])
     return out
 
 
 def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
-                        ) -> tuple[dict, Scorer, Ranking]:
+                        ) -> tuple[DiagnosisResult, Scorer, Ranking]:
     """:func:`diagnose_recording` plus the residual model and ranking behind it (for the report).
 
     BLAS runs on one thread: the fits solve hundreds of small least-squares problems, for which
@@ -134,7 +136,7 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         return _diagnose(rec, unit, block_s)
 
 
-def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[dict, Scorer, Ranking]:
+def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[DiagnosisResult, Scorer, Ranking]:
     sc, ranking = analyse(rec, unit, block_s)
     top = ranking.top
     explained = ranking.explained
@@ -149,31 +151,29 @@ def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[dict, S
     refit = evaluate(sc, friction_refit(nominal), nominal_sse(sc), ranking.gap_before)
     base = {"dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
     effect = ranking.effect
-    return ({
-        "unit": rec.unit,
-        "verdict": ranking.verdict,
-        "effect": effect.effect.name if effect is not None else None,
-        "effects": [f.effect.name for f in ranking.selected] if explained is not None else [],
-        "summary": summary(ranking),
-        "ranking": [f.as_dict() for f in ranking.fits],
-        "where": where_table(sc, sc.base),
-        "where_after": where_table(sc, explained.model) if explained is not None else None,
-        "gap_before": ranking.gap_before,
-        "gap_tolerance": ranking.gap_tolerance,
-        "gap_after": gap_after,
-        "shrink": shrink(ranking.gap_before, gap_after),
-        "shrink_needed": SHRINK_NEEDED,
-        "unexplained_share": ranking.unexplained_share,
-        "metric": METRIC,
-        "significance_level": ranking.alpha,
-        "nuisances": nuisance_report(sc),
-        "near_ties": experiments,
-        "friction_refit": refit.as_dict() | {
-            "nominal": {"T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
-            "refitted": {k[1:]: base[k] + float(v) for k, v in zip(refit.effect.params, refit.theta,
-                                                                       strict=True)}},
-        "cycles": {"total": int(np.unique(b.cycle).size),
-                   "heldout": [int(c) for c in sc.split.heldout_cycles]},
-        "noise": {s: signal_noise(getattr(rec, s)) for s in SIGNALS},
-        "residual_method": RESIDUAL_METHOD,
-    }, sc, ranking)
+    return (DiagnosisResult(
+        unit=rec.unit,
+        verdict=ranking.verdict,
+        effect=effect.effect.name if effect is not None else None,
+        effects=[f.effect.name for f in ranking.selected] if explained is not None else [],
+        summary=summary(ranking),
+        ranking=[f.entry() for f in ranking.fits],
+        where=where_table(sc, sc.base),
+        where_after=where_table(sc, explained.model) if explained is not None else None,
+        gap_before=ranking.gap_before,
+        gap_tolerance=ranking.gap_tolerance,
+        gap_after=gap_after,
+        shrink=shrink(ranking.gap_before, gap_after),
+        shrink_needed=SHRINK_NEEDED,
+        unexplained_share=ranking.unexplained_share,
+        metric=METRIC,
+        significance_level=ranking.alpha,
+        nuisances=nuisance_report(sc),
+        near_ties=experiments,
+        friction_refit=FrictionRefit(
+            refit.entry(), {"T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
+            {k[1:]: base[k] + float(v) for k, v in zip(refit.effect.params, refit.theta, strict=True)}),
+        cycles=Cycles(int(np.unique(b.cycle).size), [int(c) for c in sc.split.heldout_cycles]),
+        noise={s: signal_noise(getattr(rec, s)) for s in SIGNALS},
+        residual_method=RESIDUAL_METHOD,
+    ), sc, ranking)

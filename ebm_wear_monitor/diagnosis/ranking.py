@@ -110,6 +110,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     kinetic_friction,
 )
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.schema.diagnose import Drift, NearTie, Parameter, RankingEntry, Size
 
 ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
@@ -553,12 +554,12 @@ class EffectFit:
     floor: float = 0.0  # detectability floor of the size (:mod:`.tolerance`)
     share: dict[str, float] = field(default_factory=dict)  # unexplained share per channel with the effect
     contribution: float = 0.0  # RMS change of the channel's prediction, share of its RMS signal
-    drift: dict | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
+    drift: Drift | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
     ties: list[str] = field(default_factory=list)
 
     @property
     def drifting(self) -> bool:
-        return bool(self.drift and self.drift["drifting"])
+        return self.drift is not None and self.drift.drifting
 
     @property
     def augment(self) -> Augment:
@@ -570,17 +571,15 @@ class EffectFit:
         size - 1.645 std > floor."""
         return self.size - MATERIAL_Z * self.size_std > self.floor
 
-    def as_dict(self) -> dict:
+    def entry(self) -> RankingEntry:
+        """The fit as an entry of the diagnosis' ranking."""
         e = self.effect
-        return {
-            "effect": e.name, "score": self.score, "gap_after": self.gap_after, "shrink": self.shrink,
-            "p_value": self.p_value, "k": e.k, "material": self.material, "drift": self.drift,
-            "size": {"value": self.size, "std": self.size_std, "unit": e.size_unit, "meaning": e.size_meaning,
-                     "floor": self.floor},
-            "magnitude": e.magnitude(self.theta, self.stderr),
-            "parameters": {p: {"value": float(v), "stderr": float(s), "unit": u}
-                           for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)},
-        }
+        return RankingEntry(
+            e.name, self.score, self.gap_after, self.shrink, self.p_value, e.k, self.material, self.drift,
+            Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor),
+            e.magnitude(self.theta, self.stderr),
+            {p: Parameter(float(v), float(s), u)
+             for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)})
 
 
 def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
@@ -728,7 +727,7 @@ DRIFT_SHARE = 0.5
 MAY_DRIFT = frozenset({"clearance_growth", "force_sensor_bias", "stiffness_nonlinearity"})
 
 
-def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
+def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     """Does a friction effect hold over the recording?  Refit on the early and the late half (module doc).
 
     The calibration cycles are split at their median time; the effect's parameters alone are refitted
@@ -751,7 +750,7 @@ def drift_test(sc: Scorer, f: EffectFit) -> dict | None:
         errs.append(_size_std(f.effect, g.theta, g.stderr))
     diff, sd = sizes[1] - sizes[0], float(np.hypot(errs[0], errs[1]))
     drifting = abs(diff) > max(f.floor, DRIFT_SHARE * max(sizes), 3.0 * sd)
-    return {"early": sizes[0], "late": sizes[1], "std": sd, "drifting": bool(drifting)}
+    return Drift(sizes[0], sizes[1], sd, bool(drifting))
 
 
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
@@ -829,7 +828,7 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
 
 
 def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,
-                          sigma_torque: float, sigma_force: float, n: int = 12) -> dict:
+                          sigma_torque: float, sigma_force: float, n: int = 12) -> NearTie:
     """Operating range where two fitted effects disagree most, in noise units.
 
     The moving-branch friction (004 eq. 9 + each augmentation) is compared on a
@@ -859,6 +858,5 @@ def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed
     inside = (speed is None or speed[0] * nom.i_g <= max_speed) and force[0] <= max_force
     where = (f"screw speed {speed[0]:.3g}-{speed[1]:.3g} rad/s at " if speed else "") + \
         f"clamp force {force[0]:.4g}-{force[1]:.4g} N"
-    return {"between": [a.effect.name, b.effect.name], "screw_speed_rad_s": speed, "force_N": force,
-            "separation_sigma": sep, "inside_recorded_range": bool(inside),
-            "experiment": f"record at {where}" + ("" if inside else " (beyond the recorded range)")}
+    return NearTie([a.effect.name, b.effect.name], speed, force, sep, bool(inside),
+                   f"record at {where}" + ("" if inside else " (beyond the recorded range)"))

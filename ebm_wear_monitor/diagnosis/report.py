@@ -2,8 +2,9 @@
 
 ``write_report(directory, states)`` writes one self-contained ``index.html`` (the project's shared
 templates and stylesheet, :mod:`ebm_wear_monitor.reports`, ``diagnose.html``; Plotly inlined, so it
-opens without network access); ``states`` are the ``(result, scorer, ranking)`` triples of
-:func:`.pipeline.diagnose_with_state`.  Per unit:
+opens without network access); ``states`` are ``(unit diagnosis, scorer, ranking)``: the typed result
+(:class:`~ebm_wear_monitor.schema.diagnose.UnitDiagnosis`) with the scorer and ranking behind it
+(:func:`.pipeline.diagnose_with_state`).  Per unit:
 
 * the verdict in plain words with each effect's size relative to nominal (the result's ``summary``);
 * the residuals, recorded minus twin, per phase, on the held-out cycles, for the twin as given and
@@ -31,6 +32,7 @@ from ebm_wear_monitor.diagnosis.phases import PHASES
 from ebm_wear_monitor.diagnosis.pipeline import describe
 from ebm_wear_monitor.diagnosis.ranking import EffectFit, Model, Ranking, Scorer
 from ebm_wear_monitor.outputs import jsonable, publish_directory
+from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
 
 VERDICT_CLASS = {"none": "ok", "effect": "warn", "unexplained": "due"}
 VERDICT_WORDS = {"none": "twin explains the data", "effect": "unmodelled effect found",
@@ -129,25 +131,27 @@ NUISANCE_WORDS = {
 }
 
 
-def unit_context(res: dict, sc: Scorer, ranking: Ranking) -> dict:
-    """What the template shows of one unit."""
+def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
+    """What the template shows of one unit (``res``: its diagnosis, a
+    :class:`~ebm_wear_monitor.schema.diagnose.DiagnosisResult`)."""
+    res = u.diagnosis
     effects = [{"effect": f.effect.name.replace("_", " "), "size": describe(f),
                 "floor": f"{100 * f.floor:.0f} %" if f.effect.size_unit == "-" else f"{f.floor * 1e6:.0f} µm",
                 "material": "yes" if f.material else "no",
                 "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %",
                 "drift": "" if not f.drifting else "drifts within the recording"} for f in ranking.fits]
-    nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v["value"], v["std"], v["unit"]))
-                 for k, v in res["nuisances"].items()]
-    faults = [f"{sig}: {kind} {n}" for sig, kinds in sorted((res.get("input_faults_by_signal") or {}).items())
+    nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
+                 for k, v in res.nuisances.items()]
+    faults = [f"{sig}: {kind} {n}" for sig, kinds in sorted(u.input_faults_by_signal.items())
               for kind, n in sorted(kinds.items())]
-    return {"res": res, "light": VERDICT_CLASS[res["verdict"]], "words": VERDICT_WORDS[res["verdict"]],
+    return {"res": res, "light": VERDICT_CLASS[res.verdict], "words": VERDICT_WORDS[res.verdict],
             "residuals": residual_figure(sc, ranking), "shrink": shrink_figure(ranking.fits),
             "effects": effects, "nuisances": nuisances, "faults": faults,
-            "json": json.dumps({k: v for k, v in res.items() if k not in ("ranking", "where", "where_after")},
-                               indent=1, default=float)}
+            "json": json.dumps({k: v for k, v in u.to_json_dict().items()
+                                if k not in ("ranking", "where", "where_after")}, indent=1)}
 
 
-def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking]]) -> Path:
+def write_report(directory: str | Path, states: list[tuple[UnitDiagnosis, Scorer, Ranking]]) -> Path:
     """Write the HTML report of every unit into ``directory`` (created if needed; files replaced).
 
     Built in a temporary sibling and moved in by :func:`ebm_wear_monitor.outputs.publish_directory`
@@ -156,10 +160,10 @@ def write_report(directory: str | Path, states: list[tuple[dict, Scorer, Ranking
     from ebm_wear_monitor.reports import render_page
 
     def build(tmp: Path) -> None:
-        units = [unit_context(res, sc, ranking) for res, sc, ranking in states]
+        units = [unit_context(u, sc, ranking) for u, sc, ranking in states]
         page = render_page("diagnose.html", "Sim-to-real gap diagnosis", plotly=True,
-                           subtitle=", ".join(r["unit"] for r, _, _ in states), units=units,
-                           method=states[0][0]["residual_method"])
+                           subtitle=", ".join(u.diagnosis.unit for u, _, _ in states), units=units,
+                           method=states[0][0].diagnosis.residual_method)
         (tmp / "index.html").write_text(page, encoding="utf-8")
 
     return publish_directory(build, directory)

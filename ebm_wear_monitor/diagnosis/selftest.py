@@ -56,6 +56,7 @@ from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.params import UnitParams, load_unit
+from ebm_wear_monitor.schema.diagnose import CaseResult, Confusion, SelftestResult, SourceFalsePositives
 
 RATE_HZ = 1000.0  # recording rate of the self-test: the nominal onboard rate (interface.md section 2) [Hz]
 OVERSAMPLE = 4  # plant integration steps per recorded sample (a 4 kHz plant)
@@ -169,8 +170,8 @@ def simulate_case(unit: UnitParams, case: Case) -> Recording:
 def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 0,
                  unit: UnitParams | None = None,
                  on_case: Callable[[int, int], object] | None = None, *, foreign: bool = True,
-                 jobs: int = 1) -> dict:
-    """Run the blind self-test; returns the JSON object of interface.md section 4 (plus details).
+                 jobs: int = 1) -> SelftestResult:
+    """Run the blind self-test: interface.md section 4's scores (plus details; ``.to_json_dict()``).
 
     The in-world set's scores are at the top level (today's keys); with ``foreign`` the scores of
     the foreign world (:mod:`.foreign_selftest`) are under ``"foreign"``, run on ``jobs`` processes.
@@ -189,67 +190,66 @@ def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 
     for case in cases:
         case = dataclasses.replace(case, seed=case.seed + seed)
         res = diagnose_recording(simulate_case(unit, case), unit)
-        ranked = [r["effect"] for r in res["ranking"]]
-        top_gap = res["ranking"][0]["gap_after"]
-        rows.append({
-            "true": case.label, "effects": case.effects, "relative_change": case.relative_change,
-            "seed": case.seed, "demands": list(DEMANDS[case.demands]),
-            "source": case.source, "rate_hz": case.rate_hz,
-            "verdict": res["verdict"], "diagnosed": res["effect"] or "none", "top2": ranked[:2],
-            "gap_before": res["gap_before"], "gap_after": res["gap_after"],
-            "gap_after_top": top_gap,
-            "top1_ok": bool(case.expected) and res["effect"] in case.expected,
-            "top2_ok": bool(case.expected) and bool(case.expected & set(ranked[:2])),
-            "where": [res["where"]["phase"], res["where"]["signal"]],
-        })
+        ranked = [r.effect for r in res.ranking]
+        rows.append(CaseResult(
+            true=case.label, effects=case.effects, relative_change=case.relative_change,
+            seed=case.seed, demands=list(DEMANDS[case.demands]), source=case.source, rate_hz=case.rate_hz,
+            verdict=res.verdict, diagnosed=res.effect or "none", top2=ranked[:2],
+            gap_before=res.gap_before, gap_after=res.gap_after, gap_after_top=res.ranking[0].gap_after,
+            top1_ok=bool(case.expected) and res.effect in case.expected,
+            top2_ok=bool(case.expected) and bool(case.expected & set(ranked[:2])),
+            where=[res.where.phase, res.where.signal]))
         if on_case is not None:
             on_case(len(rows), total)
     result = summarise(rows, time.perf_counter() - t0)
     if foreign:
         done = len(rows)
-        result["foreign"] = run_foreign(
+        result = dataclasses.replace(result, foreign=run_foreign(
             quick, max_cases, jobs, unit,
-            None if on_case is None else lambda k, _n: on_case(done + k, total))
+            None if on_case is None else lambda k, _n: on_case(done + k, total)))
     return result
 
 
-def summarise(rows: list[dict], seconds: float) -> dict:
+def count(confusion: Confusion, true: str, answer: str) -> None:
+    """One more ``true`` label answered ``answer`` in a confusion matrix."""
+    row = confusion.setdefault(true, {})
+    row[answer] = row.get(answer, 0) + 1
+
+
+def summarise(rows: list[CaseResult], seconds: float) -> SelftestResult:
     """Scores of the self-test rows (module docstring)."""
-    effect_rows = [r for r in rows if r["true"] != "none"]
-    big = [r for r in effect_rows if r["relative_change"] >= 0.1]
-    null = [r for r in rows if r["true"] == "none"]
-    confusion: dict[str, dict[str, int]] = {}
+    effect_rows = [r for r in rows if r.true != "none"]
+    big = [r for r in effect_rows if r.relative_change >= 0.1]
+    null = [r for r in rows if r.true == "none"]
+    confusion: Confusion = {}
     for r in rows:
-        row = confusion.setdefault(r["true"], {})
-        row[r["diagnosed"]] = row.get(r["diagnosed"], 0) + 1
+        count(confusion, r.true, r.diagnosed)
 
-    def share(sel: list[dict], key: str) -> float | None:
-        return float(np.mean([r[key] for r in sel])) if sel else None
+    def top1(sel: list[CaseResult]) -> float | None:
+        return float(np.mean([r.top1_ok for r in sel])) if sel else None
 
-    by_source: dict[str, dict[str, int]] = {}
+    by_source: dict[str, SourceFalsePositives] = {}
     for r in null:
-        key = f"{r['source']}@{r['rate_hz']:g}Hz"
-        entry = by_source.setdefault(key, {"cases": 0, "false_positives": 0})
-        entry["cases"] += 1
-        entry["false_positives"] += r["verdict"] == "effect"
-    shrink = [1.0 - r["gap_after"] / r["gap_before"] if r["gap_before"] > 0 else 0.0 for r in effect_rows]
-    return {
-        "cases": len(rows),
-        "top1_accuracy": share(big, "top1_ok"),
-        "top2_accuracy": share(big, "top2_ok"),
-        "top1_accuracy_all_magnitudes": share(effect_rows, "top1_ok"),
-        "false_positive_rate": float(np.mean([r["verdict"] == "effect" for r in null])) if null else None,
-        "false_positives_by_source": by_source,
-        "top1_accuracy_by_source": {src: share([r for r in big if r["source"] == src], "top1_ok")
-                                    for src in sorted({r["source"] for r in big})},
-        "median_shrink": float(np.median(shrink)) if shrink else None,
-        "confusion": confusion,
-        "rate_hz": RATE_HZ, "cycles_per_case": CYCLES, "seconds": seconds,
-        "case_results": rows,
-    }
+        key = f"{r.source}@{r.rate_hz:g}Hz"
+        seen = by_source.get(key, SourceFalsePositives(0, 0))
+        by_source[key] = SourceFalsePositives(seen.cases + 1, seen.false_positives + (r.verdict == "effect"))
+    shrink = [1.0 - r.gap_after / r.gap_before if r.gap_before > 0 else 0.0 for r in effect_rows]
+    return SelftestResult(
+        cases=len(rows),
+        top1_accuracy=top1(big),
+        top2_accuracy=float(np.mean([r.top2_ok for r in big])) if big else None,
+        top1_accuracy_all_magnitudes=top1(effect_rows),
+        false_positive_rate=float(np.mean([r.verdict == "effect" for r in null])) if null else None,
+        false_positives_by_source=by_source,
+        top1_accuracy_by_source={src: top1([r for r in big if r.source == src])
+                                 for src in sorted({r.source for r in big})},
+        median_shrink=float(np.median(shrink)) if shrink else None,
+        confusion=confusion,
+        rate_hz=RATE_HZ, cycles_per_case=CYCLES, seconds=seconds,
+        case_results=rows, foreign=None)
 
 
-def confusion_lines(confusion: dict[str, dict[str, int]]) -> list[str]:
+def confusion_lines(confusion: Confusion) -> list[str]:
     """A confusion matrix as text: columns numbered, names in full on the rows (same number, same name)."""
     diag = sorted({d for row in confusion.values() for d in row})
     names = sorted(set(diag) | set(confusion))
@@ -266,35 +266,34 @@ def _pct(v: float | None) -> str:
     return "n/a" if v is None else f"{100 * v:.1f} %"
 
 
-def format_summary(result: dict) -> str:
+def format_summary(result: SelftestResult) -> str:
     """Human-readable confusion matrices and scores of both worlds."""
-    lines = [f"in-world self-test (the twin's own recordings): {result['cases']} cases in "
-             f"{result['seconds']:.1f} s ({result['cycles_per_case']} cycles at {result['rate_hz']:g} Hz "
-             "each)"]
-    lines += confusion_lines(result["confusion"])
-    lines.append(f"top-1 accuracy (effects >= 10 %): {_pct(result['top1_accuracy'])}   "
-                 f"top-2: {_pct(result['top2_accuracy'])}   all magnitudes top-1: "
-                 f"{_pct(result['top1_accuracy_all_magnitudes'])}")
-    lines.append(f"false-positive rate (no-effect cases): {_pct(result['false_positive_rate'])}   "
-                 f"median held-out shrink: {_pct(result['median_shrink'])}")
-    fp = sorted(result["false_positives_by_source"].items())
+    lines = [f"in-world self-test (the twin's own recordings): {result.cases} cases in "
+             f"{result.seconds:.1f} s ({result.cycles_per_case} cycles at {result.rate_hz:g} Hz each)"]
+    lines += confusion_lines(result.confusion)
+    lines.append(f"top-1 accuracy (effects >= 10 %): {_pct(result.top1_accuracy)}   "
+                 f"top-2: {_pct(result.top2_accuracy)}   all magnitudes top-1: "
+                 f"{_pct(result.top1_accuracy_all_magnitudes)}")
+    lines.append(f"false-positive rate (no-effect cases): {_pct(result.false_positive_rate)}   "
+                 f"median held-out shrink: {_pct(result.median_shrink)}")
+    fp = sorted(result.false_positives_by_source.items())
     lines.append("false positives by source: " + ", ".join(
-        f"{k} {v['false_positives']}/{v['cases']}" for k, v in fp))
+        f"{k} {v.false_positives}/{v.cases}" for k, v in fp))
     lines.append("top-1 by source (effects >= 10 %): " + ", ".join(
-        f"{k} {_pct(v)}" for k, v in result["top1_accuracy_by_source"].items()))
-    f = result.get("foreign")
+        f"{k} {_pct(v)}" for k, v in result.top1_accuracy_by_source.items()))
+    f = result.foreign
     if f is not None:
-        c = f["counts"]
+        c = f.counts
         lines += ["", f"foreign-world self-test (an independent generator, read from bags on disk): "
-                      f"{f['cases']} cases in {f['seconds']:.1f} s ({c['none']} no-effect, {c['single']} "
-                      f"single-effect of which {c['single_small']} below 10 %, {c['pairs']} two-effect, "
-                      f"{c['outside']} outside the catalog)"]
-        lines += confusion_lines(f["confusion"])
-        lines.append(f"top-1 accuracy (single effects >= 10 %): {_pct(f['top1_accuracy'])}   "
-                     f"(5-10 %: {_pct(f['top1_accuracy_small'])})   top-2: {_pct(f['top2_accuracy'])}")
-        lines.append(f"false-positive rate (no-effect cases): {_pct(f['false_positive_rate'])}   "
-                     f"median held-out shrink: {_pct(f['median_shrink'])}")
-        lines.append(f"outside the catalog reported unexplained: {_pct(f['unexplained_accuracy'])}   "
-                     f"catalog effects reported unexplained: {_pct(f['catalog_unexplained_rate'])}   "
-                     f"both of two named: {_pct(f['pair_accuracy'])}")
+                      f"{f.cases} cases in {f.seconds:.1f} s ({c.none} no-effect, {c.single} "
+                      f"single-effect of which {c.single_small} below 10 %, {c.pairs} two-effect, "
+                      f"{c.outside} outside the catalog)"]
+        lines += confusion_lines(f.confusion)
+        lines.append(f"top-1 accuracy (single effects >= 10 %): {_pct(f.top1_accuracy)}   "
+                     f"(5-10 %: {_pct(f.top1_accuracy_small)})   top-2: {_pct(f.top2_accuracy)}")
+        lines.append(f"false-positive rate (no-effect cases): {_pct(f.false_positive_rate)}   "
+                     f"median held-out shrink: {_pct(f.median_shrink)}")
+        lines.append(f"outside the catalog reported unexplained: {_pct(f.unexplained_accuracy)}   "
+                     f"catalog effects reported unexplained: {_pct(f.catalog_unexplained_rate)}   "
+                     f"both of two named: {_pct(f.pair_accuracy)}")
     return "\n".join(lines)

@@ -22,11 +22,16 @@ block's mean screw speed (moving blocks) and clamp force (blocks in contact).
 
 from __future__ import annotations
 
+from typing import TypeVar
+
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.phases import PHASES
 from ebm_wear_monitor.diagnosis.ranking import Model, Scorer
 from ebm_wear_monitor.diagnosis.recording import SIGNALS
+from ebm_wear_monitor.schema.diagnose import ForceBin, SpeedBin, Where
+
+B = TypeVar("B", SpeedBin, ForceBin)
 
 
 def _rms(z: np.ndarray) -> float | None:
@@ -49,17 +54,17 @@ def signal_z(sc: Scorer, m: Model) -> dict[str, np.ndarray]:
     }
 
 
-def _bins(values: np.ndarray, z: np.ndarray, unit: str) -> list[dict]:
-    """RMS z in quartile bins of ``values``."""
+def _bins(values: np.ndarray, z: np.ndarray, record: type[B]) -> list[B]:
+    """RMS z in quartile bins of ``values`` (screw speed [rad/s]: SpeedBin, clamp force [N]: ForceBin)."""
     if values.size < 8:
         return []
     edges = np.unique(np.quantile(values, [0.0, 0.25, 0.5, 0.75, 1.0]))
     idx = np.clip(np.searchsorted(edges, values, side="right") - 1, 0, edges.size - 2)
-    return [{f"range_{unit}": [float(edges[i]), float(edges[i + 1])], "normalised_rms": _rms(z[idx == i]),
-             "blocks": int((idx == i).sum())} for i in range(edges.size - 1)]
+    return [record([float(edges[i]), float(edges[i + 1])], _rms(z[idx == i]), int((idx == i).sum()))
+            for i in range(edges.size - 1)]
 
 
-def where_table(sc: Scorer, m: Model) -> dict:
+def where_table(sc: Scorer, m: Model) -> Where:
     """The ``where`` object of the diagnosis JSON (interface.md section 4, extended)."""
     b = sc.model.blocks
     z = signal_z(sc, m)
@@ -68,9 +73,7 @@ def where_table(sc: Scorer, m: Model) -> dict:
                 if v is not None and s != "velocity"),
                default=(None, None, None))
     contact = b.force > sc.model.seg.force_rise
-    return {
-        "phase": best[1], "signal": best[2], "normalised_rms": best[0], "table": table,
-        "by_speed": _bins(b.speed[b.moving], z["current"][b.moving], "rad_s"),
-        "by_force": _bins(b.force[contact], z["current"][contact], "N"),
-        "by_force_axial": _bins(b.force[contact], z["axial_force"][contact], "N"),
-    }
+    return Where(best[1], best[2], best[0], table,
+                 by_speed=_bins(b.speed[b.moving], z["current"][b.moving], SpeedBin),
+                 by_force=_bins(b.force[contact], z["current"][contact], ForceBin),
+                 by_force_axial=_bins(b.force[contact], z["axial_force"][contact], ForceBin))

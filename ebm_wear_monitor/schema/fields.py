@@ -100,7 +100,8 @@ def quantity_of(cls: type[Record], name: str) -> Quantity:
 
 # ---------------------------------------------------------------------------------------- JSON
 def to_json(record: Record) -> dict[str, Any]:
-    """The JSON object of ``record``: every field with a ``json`` path at that path, in field order."""
+    """The JSON object of ``record``: every field with a ``json`` path at that path, in field order
+    (records nested directly, in lists or as mapping values, written as their objects)."""
     out: dict[str, Any] = {}
     for name, q in quantities(record):
         if q.json is None:
@@ -112,6 +113,8 @@ def to_json(record: Record) -> dict[str, Any]:
             value = to_json(value)
         elif isinstance(value, list):
             value = [to_json(v) if isinstance(v, Record) else v for v in value]
+        elif isinstance(value, Mapping):
+            value = {k: to_json(v) if isinstance(v, Record) else v for k, v in value.items()}
         if not q.json:  # merged: the nested record's keys at this level
             out.update(value)
             continue

@@ -34,11 +34,11 @@ def results():
 
 @pytest.mark.parametrize("i", range(6))
 def test_b_and_g_corrections_recovered(results, i):
-    p = results[i]["friction_refit"]["parameters"]
+    p = results[i].friction_refit.fit.parameters
     t3, t4 = TABLE3["forward"], TABLE4[i]
     for key, name in (("dB", "viscous"), ("dG", "load_coefficient")):
         true = t4[name] - t3[name]
-        est, se = p[key]["value"], p[key]["stderr"]
+        est, se = p[key].value, p[key].stderr
         # within 3 standard errors, or 5 % of the Table 3 value (the resolution asked of a refit)
         assert abs(est - true) <= max(3.0 * se, 0.05 * t3[name]), (i + 1, key, est, se, true)
 
@@ -48,8 +48,8 @@ def test_ranking_follows_the_papers_reasons(results):
     # lost 35 % of T_fc, which then moves the twin more and is named first); actuator 6, re-assembled:
     # the preload (reason 4)
     for i, res in enumerate(results):
-        assert res["verdict"] == "effect"
+        assert res.verdict == "effect"
         if i < 5:
-            assert {"load_friction", "efficiency_variation"} & set(res["effects"]), (i + 1, res["effects"])
+            assert {"load_friction", "efficiency_variation"} & set(res.effects), (i + 1, res.effects)
         else:
-            assert res["effect"] == "preload_change"
+            assert res.effect == "preload_change"

@@ -27,18 +27,18 @@ def test_case_set_covers_every_effect_none_and_pairs():
 
 
 def test_quick_selftest_in_world(result):
-    assert result["false_positive_rate"] == 0.0
-    assert result["top1_accuracy"] >= 0.8
-    assert result["top2_accuracy"] >= 0.9
-    assert result["median_shrink"] >= 0.7
-    assert result["cases"] == sum(sum(r.values()) for r in result["confusion"].values())
+    assert result.false_positive_rate == 0.0
+    assert result.top1_accuracy >= 0.8
+    assert result.top2_accuracy >= 0.9
+    assert result.median_shrink >= 0.7
+    assert result.cases == sum(sum(r.values()) for r in result.confusion.values())
 
 
 def test_quick_selftest_foreign_world(result):
-    f = result["foreign"]
-    assert f["cases"] == 21 and f["counts"]["none"] == 6
-    assert f["false_positive_rate"] == 0.0  # no verdict but none on a healthy unit of the other world
-    assert f["top1_accuracy"] >= 0.85
-    assert f["median_shrink"] >= 0.7
-    assert f["catalog_unexplained_rate"] <= 0.1
-    assert f["unexplained_accuracy"] >= 0.5
+    f = result.foreign
+    assert f.cases == 21 and f.counts.none == 6
+    assert f.false_positive_rate == 0.0  # no verdict but none on a healthy unit of the other world
+    assert f.top1_accuracy >= 0.85
+    assert f.median_shrink >= 0.7
+    assert f.catalog_unexplained_rate <= 0.1
+    assert f.unexplained_accuracy >= 0.5

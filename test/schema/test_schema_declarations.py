@@ -67,7 +67,9 @@ def test_the_contracts_keys_are_required():
         assert required_paths(load("calc_wear")["properties"][side]) >= SPEC_WEAR
     assert required_paths(load("calc_actuator")) >= SPEC_ACTUATOR
     assert {"verdict", "effect", "effects", "ranking", "where", "gap_before", "gap_after", "metric",
-            "nuisances"} <= set(load("diagnose")["$defs"]["diagnosis"]["required"])
+            "nuisances"} <= set(load("diagnose")["properties"]["units"]["items"]["required"])
+    unit = load("diagnose")["properties"]["units"]["items"]
+    assert set(load("diagnose")["required"]) == {"units"} | set(unit["required"])
     assert {"cases", "top1_accuracy", "top2_accuracy", "false_positive_rate", "median_shrink",
             "confusion"} <= set(load("selftest")["required"])
 

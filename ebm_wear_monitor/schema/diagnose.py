@@ -1,0 +1,394 @@
+"""The diagnosis results (``ebm-wear diagnose --json`` and ``--selftest --json``), declared once.
+
+A diagnosis of one unit's recording is :class:`DiagnosisResult` (interface.md section 4 and the
+diagnosis contract: verdict, effect(s), the ranking of the catalog with each effect's fitted
+:class:`Magnitude` and :class:`Size`, where the twin misses, the held-out gaps, the acquisition
+conventions estimated from the data as :class:`Estimate`), built by
+:func:`ebm_wear_monitor.diagnosis.pipeline.diagnose_recording`. The CLI adds the input screening
+and, with ``--life``, the wear-level diagnosis (:class:`UnitDiagnosis`); its document
+(:class:`DiagnoseDocument`) holds the first unit's keys at the top level and every unit under
+``units``. The self-test's is :class:`SelftestResult` (in-world scores, one :class:`CaseResult` per
+case, and the foreign world's :class:`ForeignSelftest`).
+
+Sizes whose unit depends on the entry (a fitted parameter, a nuisance) carry it in their own ``unit``
+key; their quantities are declared in :data:`GIVEN` (the unit named by that key, SI).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ebm_wear_monitor.schema.fields import Record, quantity
+
+#: the unit of a value whose entry names it in its ``unit`` key (SI: "m", "N m", "rad/s", "-", ...)
+GIVEN = "unit key"
+#: the verdicts of interface.md section 4
+VERDICTS = ("effect", "none", "unexplained")
+#: phase and signal names of interface.md section 4
+PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
+SIGNALS = ("angle", "velocity", "axial_force", "current")
+
+
+@dataclass(frozen=True)
+class Estimate(Record):
+    """A quantity estimated from the data: value, standard deviation and unit (a nuisance: an acquisition
+    convention, never an effect)."""
+
+    value: float = quantity(GIVEN, "estimate", json="value")
+    std: float = quantity(GIVEN, "its standard deviation (0: not assessed)", json="std")
+    unit: str = quantity("", "SI unit of value and std", json="unit")
+
+
+@dataclass(frozen=True)
+class Magnitude(Record):
+    """One fitted parameter of an effect in physical units, and as a fraction of the nominal quantity it
+    changes when it changes one (those keys are left out otherwise)."""
+
+    value: float = quantity(GIVEN, "fitted parameter", json="value")
+    std: float = quantity(GIVEN, "its standard error (cluster-robust over brake cycles)", json="std")
+    unit: str = quantity("", "SI unit of value and std", json="unit")
+    nominal_name: str | None = quantity("", "the nominal twin quantity it changes", json="nominal_name",
+                                        omit_none=True, default=None)
+    nominal_value: float | None = quantity(GIVEN, "that quantity's nominal value", json="nominal_value",
+                                           omit_none=True, default=None)
+    fraction: float | None = quantity("-", "value / nominal_value", json="fraction", omit_none=True,
+                                      default=None)
+    fraction_std: float | None = quantity("-", "std / |nominal_value|", json="fraction_std", omit_none=True,
+                                          default=None)
+
+
+@dataclass(frozen=True)
+class Parameter(Record):
+    """One fitted parameter in the fit's own terms."""
+
+    value: float = quantity(GIVEN, "fitted parameter", json="value")
+    stderr: float = quantity(GIVEN, "its standard error", json="stderr")
+    unit: str = quantity("", "SI unit of value and stderr", json="unit")
+
+
+@dataclass(frozen=True)
+class Size(Record):
+    """An effect's size in the unit people judge it by, against its detectability floor (:mod:`.catalog`
+    of the diagnosis)."""
+
+    value: float = quantity(GIVEN, "size (>= 0)", json="value")
+    std: float = quantity(GIVEN, "its standard deviation (delta method)", json="std")
+    unit: str = quantity("", "unit of the size: '-' a fraction, 'm' metres", json="unit")
+    meaning: str = quantity("", "what the size measures", json="meaning")
+    floor: float = quantity(GIVEN, "detectability floor from the model-tolerance budget", json="floor")
+
+
+@dataclass(frozen=True)
+class Drift(Record):
+    """A friction effect refitted on the early and the late half of the calibration cycles."""
+
+    early: float = quantity(GIVEN, "size on the early half, in the size's unit", json="early")
+    late: float = quantity(GIVEN, "size on the late half", json="late")
+    std: float = quantity(GIVEN, "standard deviation of late - early", json="std")
+    drifting: bool = quantity("", "the sizes differ beyond floor, 3 std and half the larger", json="drifting")
+
+
+@dataclass(frozen=True)
+class RankingEntry(Record):
+    """One catalog effect fitted on calibration cycles and judged on held-out ones."""
+
+    effect: str = quantity("", "catalog name (interface.md section 4; two joined by '+' for a pair)",
+                           json="effect")
+    score: float = quantity("-", "(S_before - S_after - 2k) / S_before on held-out cycles", json="score")
+    gap_after: float = quantity("-", "held-out gap with the effect added and fitted (metric)",
+                                json="gap_after")
+    shrink: float = quantity("-", "share of the held-out gap it closes, 1 - gap_after / gap_before",
+                             json="shrink")
+    p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
+    k: int = quantity("-", "number of fitted parameters", json="k")
+    material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
+    drift: Drift | None = quantity("", "early/late refit (null: not tested)", json="drift")
+    size: Size = quantity("", "its size against its detectability floor", json="size")
+    magnitude: dict[str, Magnitude] = quantity("", "fitted size per parameter, in physical units of the unit",
+                                               json="magnitude")
+    parameters: dict[str, Parameter] = quantity("", "the fitted parameters", json="parameters")
+
+
+@dataclass(frozen=True)
+class FrictionRefit(Record):
+    """T_fc, B and G of 004 eq. 9 refitted together (not a catalog entry): the unit's friction law."""
+
+    fit: RankingEntry = quantity("", "the refit judged like a catalog effect", json="")
+    nominal: dict[str, float] = quantity(GIVEN, "nominal T_fc [N m], B [N m s/rad], G [N m/N]",
+                                         json="nominal")
+    refitted: dict[str, float] = quantity(GIVEN, "refitted T_fc [N m], B [N m s/rad], G [N m/N]",
+                                          json="refitted")
+
+
+@dataclass(frozen=True)
+class SpeedBin(Record):
+    """Torque-channel RMS z-score of the moving blocks in one quartile bin of screw speed."""
+
+    range_rad_s: list[float] = quantity("rad/s", "bin edges of the block's mean screw speed",
+                                        json="range_rad_s")
+    normalised_rms: float | None = quantity("-", "RMS residual / noise", json="normalised_rms")
+    blocks: int = quantity("-", "blocks in the bin", json="blocks")
+
+
+@dataclass(frozen=True)
+class ForceBin(Record):
+    """RMS z-score of the blocks in contact in one quartile bin of clamp force."""
+
+    range_N: list[float] = quantity("N", "bin edges of the block's mean clamp force", json="range_N")
+    normalised_rms: float | None = quantity("-", "RMS residual / noise", json="normalised_rms")
+    blocks: int = quantity("-", "blocks in the bin", json="blocks")
+
+
+@dataclass(frozen=True)
+class Where(Record):
+    """Where the twin misses: per phase and signal, and over speed and force (diagnosis/where.py)."""
+
+    phase: str | None = quantity("", "phase of the largest RMS z-score (null: no block)", json="phase",
+                                 enum=PHASES)
+    signal: str | None = quantity("", "signal of the largest RMS z-score", json="signal", enum=SIGNALS)
+    normalised_rms: float | None = quantity("-", "that RMS residual / noise", json="normalised_rms")
+    table: dict[str, dict[str, float | None]] = quantity("-", "phase -> signal -> RMS residual / noise",
+                                                         json="table")
+    by_speed: list[SpeedBin] = quantity("", "torque channel over screw speed", json="by_speed")
+    by_force: list[ForceBin] = quantity("", "torque channel over clamp force", json="by_force")
+    by_force_axial: list[ForceBin] = quantity("", "force channel over clamp force", json="by_force_axial")
+
+
+@dataclass(frozen=True)
+class NearTie(Record):
+    """Two effects the held-out data do not tell apart, and the experiment that would."""
+
+    between: list[str] = quantity("", "the top effect and the tied one", json="between")
+    screw_speed_rad_s: list[float] | None = quantity(
+        "rad/s", "screw-speed range of the experiment (null: the force channel separates them)",
+        json="screw_speed_rad_s")
+    force_N: list[float] = quantity("N", "clamp-force range of the experiment", json="force_N")
+    separation_sigma: float = quantity("-", "largest difference of the two fitted models / noise",
+                                       json="separation_sigma")
+    inside_recorded_range: bool = quantity("", "the experiment lies within the recorded range",
+                                           json="inside_recorded_range")
+    experiment: str = quantity("", "the experiment in words", json="experiment")
+
+
+@dataclass(frozen=True)
+class Cycles(Record):
+    """The brake cycles of the recording and the held-out ones."""
+
+    total: int = quantity("-", "brake cycles found", json="total")
+    heldout: list[int] = quantity("-", "indices of the held-out cycles", json="heldout")
+
+
+@dataclass(frozen=True)
+class DiagnosisResult(Record):
+    """One unit's sim-to-real diagnosis (interface.md section 4, with extra keys)."""
+
+    unit: str = quantity("", "the unit's namespace", json="unit")
+    verdict: str = quantity("", "effect: named; none: the twin explains the data; unexplained: a material "
+                            "gap no catalog effect nor pair closes", json="verdict", enum=VERDICTS)
+    effect: str | None = quantity("", "the single most likely unmodelled effect", json="effect")
+    effects: list[str] = quantity("", "every effect the data support; [] for none / unexplained",
+                                  json="effects")
+    summary: str = quantity("", "the verdict in one plain-words sentence", json="summary")
+    ranking: list[RankingEntry] = quantity("", "every catalog effect, best first", json="ranking")
+    where: Where = quantity("", "where the twin as given misses", json="where")
+    where_after: Where | None = quantity("", "where the explaining model misses (null: no effect)",
+                                         json="where_after")
+    gap_before: float = quantity("-", "held-out gap of the nominal twin (nuisances fitted)",
+                                 json="gap_before")
+    gap_tolerance: float = quantity("-", "held-out gap of the twin within its tolerance",
+                                    json="gap_tolerance")
+    gap_after: float = quantity("-", "held-out gap of the explaining model (gap_before: none)",
+                                json="gap_after")
+    shrink: float = quantity("-", "1 - gap_after / gap_before", json="shrink")
+    shrink_needed: float = quantity("-", "share of the material model error an effect must close",
+                                    json="shrink_needed")
+    unexplained_share: dict[str, float] = quantity(
+        "-", "per channel: the tolerant twin's RMS model error beyond the noise, share of the channel's "
+        "signal",
+        json="unexplained_share")
+    metric: str = quantity("", "name of the gap metric", json="metric")
+    significance_level: float = quantity("-", "level of each effect's test (0.05 / effects tried)",
+                                         json="significance_level")
+    nuisances: dict[str, Estimate] = quantity("", "acquisition conventions estimated from the data: never an "
+                                              "effect", json="nuisances")
+    near_ties: list[NearTie] = quantity("", "effects tied with the top one", json="near_ties")
+    friction_refit: FrictionRefit = quantity("", "004 eq. 9's moving-branch friction refitted",
+                                             json="friction_refit")
+    cycles: Cycles = quantity("", "brake cycles", json="cycles")
+    noise: dict[str, float] = quantity(GIVEN, "white-noise std per signal in its SI unit (rad, rad/s, N, A)",
+                                       json="noise")
+    residual_method: str = quantity("", "how the residuals are formed", json="residual_method")
+
+
+@dataclass(frozen=True)
+class LifeFit(Record):
+    """One wear-level effect fitted on duty-cycle summaries (diagnosis/life.py)."""
+
+    effect: str = quantity("", "wear-level effect name", json="effect")
+    parameters: list[float] = quantity(GIVEN, "fitted parameters (diagnosis/life.py's table)",
+                                       json="parameters")
+    score: float = quantity("-", "(S_before - S_after - 2k) / S_before on held-out summaries", json="score")
+    p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
+
+
+@dataclass(frozen=True)
+class LifeDiagnosis(Record):
+    """The wear-level diagnosis: observed clearance growth against the wear model (``--life``)."""
+
+    verdict: str = quantity("", "effect or none", json="verdict", enum=VERDICTS[:2])
+    effect: str | None = quantity("", "the best effect when significant", json="effect")
+    ranking: list[LifeFit] = quantity("", "every wear-level effect, best first", json="ranking")
+    near_ties: list[str] = quantity("", "effects not told apart from the top one", json="near_ties")
+    noise_m: float = quantity("m", "noise of the observed clearance", json="noise_m")
+    gap_before_m: float = quantity("m", "held-out RMS gap of the wear model", json="gap_before_m")
+    summaries: int = quantity("-", "duty-cycle summaries used", json="summaries")
+    source: str = quantity("", "where the summaries come from", json="source")
+
+
+@dataclass(frozen=True)
+class UnitDiagnosis(Record):
+    """One unit of ``ebm-wear diagnose --json``: the diagnosis, the input screening, the life level."""
+
+    diagnosis: DiagnosisResult = quantity("", "the diagnosis of the unit's recording", json="")
+    input_faults_by_signal: dict[str, dict[str, int]] = quantity(
+        "-", "samples dropped before the diagnosis, per signal and kind (replay's key)",
+        json="input_faults_by_signal")
+    input_faults: dict[str, int] = quantity("-", "samples dropped, per kind", json="input_faults")
+    life: LifeDiagnosis | None = quantity("", "wear-level diagnosis (only with --life)", json="life",
+                                          omit_none=True, default=None)
+
+
+@dataclass(frozen=True)
+class DiagnoseDocument(Record):
+    """``ebm-wear diagnose --json``: the first unit's keys at the top level (a one-unit recording reads as
+    interface.md's object) and every unit under ``units``."""
+
+    first: UnitDiagnosis = quantity("", "the first unit", json="")
+    units: list[UnitDiagnosis] = quantity("", "every unit found in the bags, in name order", json="units")
+
+
+# ---------------------------------------------------------------------------------------- self-test
+@dataclass(frozen=True)
+class CaseResult(Record):
+    """One in-world self-test case: what was injected and what the diagnosis said."""
+
+    true: str = quantity("", "the catalog effects injected, joined by '+' ('none': no effect)", json="true")
+    effects: dict[str, float] = quantity(GIVEN, "the simulator's effects and magnitudes", json="effects")
+    relative_change: float = quantity("-", "relative change of the quantity the effect acts on",
+                                      json="relative_change")
+    seed: int = quantity("-", "noise seed", json="seed")
+    demands: list[float] = quantity("N", "clamp-force demands, cycled", json="demands")
+    source: str = quantity("", "twin_x8 | twin | reference:instant | reference:mean", json="source")
+    rate_hz: float = quantity("Hz", "recording rate", json="rate_hz")
+    verdict: str = quantity("", "the diagnosis's verdict", json="verdict", enum=VERDICTS)
+    diagnosed: str = quantity("", "the verdict's effect or 'none'", json="diagnosed")
+    top2: list[str] = quantity("", "the two best-ranked effects", json="top2")
+    gap_before: float = quantity("-", "held-out gap before", json="gap_before")
+    gap_after: float = quantity("-", "held-out gap after", json="gap_after")
+    gap_after_top: float = quantity("-", "held-out gap of the best-ranked effect", json="gap_after_top")
+    top1_ok: bool = quantity("", "the verdict names an injected effect", json="top1_ok")
+    top2_ok: bool = quantity("", "an injected effect is among the two best-ranked", json="top2_ok")
+    where: list[str | None] = quantity("", "[phase, signal] of where", json="where")
+
+
+@dataclass(frozen=True)
+class SourceFalsePositives(Record):
+    """No-effect cases of one source and rate, and how many got an effect verdict."""
+
+    cases: int = quantity("-", "no-effect cases", json="cases")
+    false_positives: int = quantity("-", "of them with verdict effect", json="false_positives")
+
+
+@dataclass(frozen=True)
+class ForeignCaseResult(Record):
+    """One foreign-world case: the generator's truth and the diagnosis's answer."""
+
+    case: str = quantity("", "the case's bag name", json="case")
+    kind: str = quantity("", "none | effect | pair | outside", json="kind")
+    true: str = quantity("", "true label: catalog effects joined by '+', 'none', or the outside effect",
+                         json="true")
+    effects_true: list[str] = quantity("", "the catalog effects in the recording", json="effects_true")
+    relative_change: dict[str, float | None] = quantity("-", "per effect: the generator's relative change",
+                                                        json="relative_change")
+    verdict: str = quantity("", "the diagnosis's verdict ('error': refused)", json="verdict")
+    diagnosed: str = quantity("", "the effect named, none, unexplained or error", json="diagnosed")
+    error: str | None = quantity("", "why the diagnosis refused the recording", json="error", omit_none=True)
+    effects: list[str] = quantity("", "the effects named", json="effects")
+    top2: list[str] = quantity("", "the two best-ranked effects", json="top2")
+    gap_before: float = quantity("-", "held-out gap before", json="gap_before")
+    gap_after: float = quantity("-", "held-out gap after", json="gap_after")
+    shrink: float = quantity("-", "1 - gap_after / gap_before", json="shrink")
+    top1_ok: bool = quantity("", "the verdict names a true effect", json="top1_ok")
+    top2_ok: bool = quantity("", "a true effect is among the two best-ranked", json="top2_ok")
+    pair_ok: bool = quantity("", "a two-effect case with both effects named", json="pair_ok")
+    where: list[str | None] = quantity("", "[phase, signal] of where", json="where")
+    seconds: float = quantity("s", "wall time of the case (writing the bag included)", json="seconds")
+
+
+@dataclass(frozen=True)
+class ForeignCounts(Record):
+    """Cases of the foreign set by kind."""
+
+    none: int = quantity("-", "no-effect cases", json="none")
+    single: int = quantity("-", "single-effect cases", json="single")
+    single_small: int = quantity("-", "of them below a 10 % relative change", json="single_small")
+    pairs: int = quantity("-", "two-effect cases", json="pairs")
+    outside: int = quantity("-", "cases with an effect outside the catalog", json="outside")
+
+
+#: true label -> diagnosed answer -> count
+Confusion = dict[str, dict[str, int]]
+
+
+@dataclass(frozen=True)
+class ForeignSelftest(Record):
+    """The foreign-world self-test (diagnosis/foreign_selftest.py): recordings of an independent generator."""
+
+    cases: int = quantity("-", "cases", json="cases")
+    top1_accuracy: float | None = quantity("-", "single effects >= 10 %: the verdict names it",
+                                           json="top1_accuracy")
+    top1_accuracy_small: float | None = quantity("-", "the same for 5-10 % effects",
+                                                 json="top1_accuracy_small")
+    top2_accuracy: float | None = quantity("-", "a true effect among the two best-ranked",
+                                           json="top2_accuracy")
+    false_positive_rate: float | None = quantity("-", "verdict other than none on no-effect cases",
+                                                 json="false_positive_rate")
+    median_shrink: float | None = quantity("-", "median held-out shrink of effect cases",
+                                           json="median_shrink")
+    unexplained_accuracy: float | None = quantity("-", "outside effects reported unexplained",
+                                                  json="unexplained_accuracy")
+    catalog_unexplained_rate: float | None = quantity("-", "catalog cases reported unexplained",
+                                                      json="catalog_unexplained_rate")
+    pair_accuracy: float | None = quantity("-", "two-effect cases with both named", json="pair_accuracy")
+    counts: ForeignCounts = quantity("", "cases by kind", json="counts")
+    confusion: Confusion = quantity("-", "true label -> answer -> count", json="confusion")
+    seconds: float = quantity("s", "wall time", json="seconds")
+    case_results: list[ForeignCaseResult] = quantity("", "one row per case, by name", json="case_results")
+
+
+@dataclass(frozen=True)
+class SelftestResult(Record):
+    """``ebm-wear diagnose --selftest --json``: interface.md section 4's scores (in-world) and more."""
+
+    cases: int = quantity("-", "in-world cases", json="cases")
+    top1_accuracy: float | None = quantity("-", "effects >= 10 %: the verdict names a true effect",
+                                           json="top1_accuracy")
+    top2_accuracy: float | None = quantity("-", "effects >= 10 %: a true effect among the two best-ranked",
+                                           json="top2_accuracy")
+    top1_accuracy_all_magnitudes: float | None = quantity("-", "top-1 over every effect case",
+                                                          json="top1_accuracy_all_magnitudes")
+    false_positive_rate: float | None = quantity("-", "verdict effect on no-effect cases",
+                                                 json="false_positive_rate")
+    false_positives_by_source: dict[str, SourceFalsePositives] = quantity(
+        "", "per 'source@rate': no-effect cases and false positives", json="false_positives_by_source")
+    top1_accuracy_by_source: dict[str, float | None] = quantity("-", "top-1 (effects >= 10 %) per source",
+                                                               json="top1_accuracy_by_source")
+    median_shrink: float | None = quantity("-", "median held-out shrink 1 - gap_after / gap_before of "
+                                           "effect cases", json="median_shrink")
+    confusion: Confusion = quantity("-", "true effect -> diagnosed effect or none -> count", json="confusion")
+    rate_hz: float = quantity("Hz", "recording rate of the twin_x8 cases", json="rate_hz")
+    cycles_per_case: int = quantity("-", "brake applications per recording", json="cycles_per_case")
+    seconds: float = quantity("s", "wall time of the in-world set", json="seconds")
+    case_results: list[CaseResult] = quantity("", "one row per case", json="case_results")
+    foreign: ForeignSelftest | None = quantity("", "the foreign world (left out with --in-world-only)",
+                                               json="foreign", omit_none=True, default=None)
