@@ -3,7 +3,8 @@
 Public API::
 
     from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_signals, Recording
-    result = diagnose_recording(recording, unit)   # dict, interface.md section 4
+    result = diagnose_recording(recording, unit)   # schema.diagnose.DiagnosisResult, interface.md section 4
+    result.verdict, result.ranking[0].magnitude, result.to_json_dict()
 
 Modules: :mod:`.recording` (signals on one time base), :mod:`.phases` (phase and
 cycle labels), :mod:`.noise` (measured noise), :mod:`.residuals` (re-anchored

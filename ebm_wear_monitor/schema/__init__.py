@@ -5,6 +5,7 @@
   and columns, JSON Schema);
 * :mod:`.monitor`: the monitor core's records ``CycleSummary`` and ``MonitorSnapshot``;
 * :mod:`.replay`: the replay and fleet results;
+* :mod:`.diagnose`: the diagnosis and self-test results (``ebm-wear diagnose [--selftest] --json``);
 * :mod:`.documents`: the JSON Schema (draft 2020-12) of every ``--json`` output, written to
   ``schema/json/*.schema.json`` (package data) by ``python -m ebm_wear_monitor.schema``.
 

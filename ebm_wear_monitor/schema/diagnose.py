@@ -68,8 +68,8 @@ class Parameter(Record):
 
 @dataclass(frozen=True)
 class Size(Record):
-    """An effect's size in the unit people judge it by, against its detectability floor (:mod:`.catalog`
-    of the diagnosis)."""
+    """An effect's size in the unit people judge it by, against its detectability floor
+    (:mod:`ebm_wear_monitor.diagnosis.catalog`)."""
 
     value: float = quantity(GIVEN, "size (>= 0)", json="value")
     std: float = quantity(GIVEN, "its standard deviation (delta method)", json="std")
