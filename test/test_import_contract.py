@@ -1,7 +1,7 @@
 """Import contract (issue 12): the onboard node and the monitor core carry nothing they do not need.
 
 Checked on the set of modules actually loaded, in a fresh interpreter: every module of
-``ebm_wear_monitor.ros``, ``.monitor``, ``.physics`` and ``.params`` is imported, then the node's
+``ebm_wear_monitor.ros``, ``.domain``, ``.monitor``, ``.physics`` and ``.params`` is imported, then the node's
 input path runs (raw records, one of them undecodable so the general deserializer is tried, into a
 Feeder driving a MonitorCore). None of rosbags, dask, distributed, pandas or matplotlib may appear.
 """
@@ -20,7 +20,7 @@ SCRIPT = r"""
 import importlib, json, pkgutil, sys
 import numpy as np
 import ebm_wear_monitor
-for package in ("ros", "monitor", "physics", "params"):
+for package in ("ros", "domain", "monitor", "physics", "params"):
     pkg = importlib.import_module(f"ebm_wear_monitor.{package}")
     for info in pkgutil.walk_packages(pkg.__path__, f"{pkg.__name__}."):
         importlib.import_module(info.name)

@@ -1,10 +1,10 @@
 """Types (issue 14 item 5): mypy finds no error, the core strict and the rest at default settings.
 
-``mypy.ini`` holds the policy: the core (``ebm_wear_monitor.physics``, ``.monitor``, ``.params``, ``.schema``,
-``.arrays``) with every flag ``mypy --strict`` turns on, everything else at mypy's default settings,
-the stubs of numpy, scipy, pandas, PyYAML and tqdm (pinned in requirements/lock.txt), the rosidl
-message packages read from their sources. The second test runs ``mypy --strict`` itself over the
-core, so the config's list of flags cannot fall behind what --strict means.
+``mypy.ini`` holds the policy: the core (``ebm_wear_monitor.domain``, ``.physics``, ``.monitor``,
+``.params``, ``.schema``, ``.arrays``) with every flag ``mypy --strict`` turns on, everything else at
+mypy's default settings, the stubs of numpy, scipy, pandas, PyYAML and tqdm (pinned in
+requirements/lock.txt), the rosidl message packages read from their sources. The second test runs
+``mypy --strict`` itself over the core, so the config's list of flags cannot fall behind what --strict means.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-CORE = ("ebm_wear_monitor.physics", "ebm_wear_monitor.monitor", "ebm_wear_monitor.params",
-        "ebm_wear_monitor.schema")
+CORE = ("ebm_wear_monitor.domain", "ebm_wear_monitor.physics", "ebm_wear_monitor.monitor",
+        "ebm_wear_monitor.params", "ebm_wear_monitor.schema")
 
 
 def _mypy(*args: str) -> subprocess.CompletedProcess[str]:

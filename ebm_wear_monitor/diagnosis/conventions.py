@@ -58,9 +58,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.noise import MAD_TO_SIGMA, signal_noise
-from ebm_wear_monitor.diagnosis.phases import IDLE, Segmentation
+from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
+from ebm_wear_monitor.domain.phases import Phase, run_ids
 from ebm_wear_monitor.schema.diagnose import Estimate
 
 REST_WINDOW_S = 0.02  # idle time before an application over which its rest angle is taken [s]
@@ -71,14 +72,13 @@ VELOCITY_LAG_RANGE_S = 0.02  # the recorded velocity's lag is searched within +-
 
 def phase_runs(seg: Segmentation) -> np.ndarray:
     """Id of the run of equal (cycle, phase) each sample belongs to."""
-    key = seg.cycle.astype(np.int64) * 8 + (seg.phase.astype(np.int64) + 1)
-    return np.cumsum(np.concatenate(([0], (key[1:] != key[:-1]).astype(np.int64))))
+    return run_ids(seg.phase, seg.cycle)
 
 
 def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
     """Per application c: (first, a, b) with ``first`` its first active sample and [a, b) the last idle
     stretch before it (after the previous application started), else the first one after it."""
-    idle = seg.phase == IDLE
+    idle = seg.phase == Phase.IDLE
     edges = np.flatnonzero(np.diff(np.concatenate(([0], idle.astype(np.int8), [0]))))
     stretches = list(zip(edges[0::2], edges[1::2], strict=True))  # [a, b) of every idle stretch
     out, previous = [], 0
@@ -174,7 +174,7 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
     seen_rest = np.zeros(seg.n_cycles, bool)
     for c, (first, a, b) in enumerate(_before_each(seg)):
         window = np.arange(max(first - rest_n, 0), first)
-        seen_rest[c] = window.size == rest_n and np.mean(seg.phase[window] == IDLE) >= 0.5
+        seen_rest[c] = window.size == rest_n and np.mean(seg.phase[window] == Phase.IDLE) >= 0.5
         window = window[still[window]] if still[window].any() else window
         if window.size:
             rest[c], rest_sd[c] = _median_std(rec.angle[window])

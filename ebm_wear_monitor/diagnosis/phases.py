@@ -53,15 +53,12 @@ from scipy.ndimage import uniform_filter1d
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import angle_speed
-
-PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
-IDLE = -1
-CLEARANCE, GENERATION, MAINTENANCE, RELEASE = range(4)
+from ebm_wear_monitor.domain.phases import Phase, run_starts
 
 
 @dataclass(frozen=True)
 class Segmentation:
-    """Per-sample phase code (-1 idle, 0..3 as :data:`PHASES`) and brake-cycle index (0-based)."""
+    """Per-sample :class:`~ebm_wear_monitor.domain.phases.Phase` code and brake-cycle index (0-based)."""
 
     phase: np.ndarray  # int8 per sample
     cycle: np.ndarray  # int32 per sample
@@ -76,9 +73,8 @@ class Segmentation:
 
 def _runs(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Start indices and lengths of runs of equal values."""
-    starts = np.flatnonzero(np.concatenate(([True], code[1:] != code[:-1])))
-    lengths = np.diff(np.append(starts, code.size))
-    return starts, lengths
+    starts = run_starts(code)
+    return starts, np.diff(np.append(starts, code.size))
 
 
 def segment(rec: Recording, speed: np.ndarray | None = None, smooth_s: float = 0.01,
@@ -87,6 +83,7 @@ def segment(rec: Recording, speed: np.ndarray | None = None, smooth_s: float = 0
 
     ``speed``: screw speed per sample [rad/s]; default :func:`.speed.angle_speed` of the recording.
     """
+    CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE = Phase
     speed = angle_speed(rec)[0] if speed is None else speed
     w = max(1, round(smooth_s / rec.dt))
     v = uniform_filter1d(speed, w, mode="nearest")

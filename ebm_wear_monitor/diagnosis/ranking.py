@@ -98,7 +98,6 @@ from scipy import optimize, stats
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
-from ebm_wear_monitor.diagnosis.phases import IDLE
 from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
     NOMINAL,
@@ -109,6 +108,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     clamp_spring,
     kinetic_friction,
 )
+from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.schema.diagnose import Drift, NearTie, Parameter, RankingEntry, Size
 
@@ -232,7 +232,7 @@ class Scorer:
         c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
         # where pads touch or are about to (every block of an application but idle): a shifted contact
         # position moves the force there, and the model's own contact point may fall on either side
-        spread = contact_spread(model, r["force"], c_f * s_f) * (b.phase != IDLE)
+        spread = contact_spread(model, r["force"], c_f * s_f) * (b.phase != Phase.IDLE)
         sc = cls(model, split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread), specs,
                  sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
         sc = dataclasses.replace(sc, D=sc.responses(pre.base.aug))

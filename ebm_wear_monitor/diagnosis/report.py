@@ -28,9 +28,9 @@ from typing import Any
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.phases import PHASES
 from ebm_wear_monitor.diagnosis.pipeline import describe
 from ebm_wear_monitor.diagnosis.ranking import EffectFit, Model, Ranking, Scorer
+from ebm_wear_monitor.domain.phases import PHASES
 from ebm_wear_monitor.outputs import jsonable, publish_directory
 from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
 

@@ -90,6 +90,7 @@ from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S
+from ebm_wear_monitor.domain.phases import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
@@ -221,7 +222,7 @@ class Blocks:
 
     start: np.ndarray
     stop: np.ndarray
-    phase: np.ndarray  # phase code (-1 idle)
+    phase: np.ndarray  # Phase code
     cycle: np.ndarray  # brake-cycle index
     run: np.ndarray  # id of the phase run the block belongs to (for noise differences)
     moving: np.ndarray  # bool: the screw moves over most of the block
@@ -236,9 +237,8 @@ class Blocks:
 def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving: np.ndarray,
                 n_per_block: int) -> Blocks:
     """Cut every run of equal (cycle, phase) into blocks of about ``n_per_block`` samples."""
-    key = seg.cycle.astype(np.int64) * 8 + (seg.phase.astype(np.int64) + 1)
-    run_start = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
-    run_stop = np.append(run_start[1:], key.size) - 1  # last sample of each run
+    run_start = run_starts(run_ids(seg.phase, seg.cycle))
+    run_stop = np.append(run_start[1:], seg.phase.size) - 1  # last sample of each run
     starts, stops, runs = [], [], []
     for r, (a, b) in enumerate(zip(run_start, run_stop, strict=True)):
         span = int(b - a)

@@ -22,7 +22,7 @@ from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter
 from ebm_wear_monitor.monitor.core import Application, MonitorCore
 from ebm_wear_monitor.monitor.feeder import Feeder
 from ebm_wear_monitor.monitor.persistence import load_state, save_state
-from ebm_wear_monitor.monitor.segmentation import PHASES, SampleLabels, label_samples
+from ebm_wear_monitor.monitor.segmentation import SampleLabels, label_samples
 from ebm_wear_monitor.monitor.state import MonitorState, StateError
 from ebm_wear_monitor.monitor.wire import Batch, stamp_ns
 from ebm_wear_monitor.schema.monitor import (
@@ -37,7 +37,6 @@ from ebm_wear_monitor.schema.monitor import (
 
 __all__ = [
     "FAULT_KINDS",
-    "PHASES",
     "SIGNALS",
     "STATUSES",
     "STATUS_DUE",

@@ -84,18 +84,20 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ebm_wear_monitor.domain.phases import APPLICATION_PHASES, Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.alignment import AlignedBatch, stamps_to_ns
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 
-PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
-CE, FG, FM, FR, MOTION = 0, 1, 2, 3, 4  # sample labels (MOTION: outside any application)
-N_LABELS = MOTION + 1  # labels a kept sample can carry (per-label sums have this length)
+# states of the machine: the four phases of an application, MOTION (moving outside any application: its
+# samples are labelled idle), REST and UNKNOWN; a kept sample's label is its state, a Phase code
+CE, FG, FM, FR, MOTION = Phase
+N_LABELS = len(Phase)  # labels a kept sample can carry (per-label sums have this length)
 REST = -1
 UNKNOWN = -2  # at the start of data and after a gap: the first sample decides (at rest or moving)
-ACTIVE = (CE, FG, FM, FR)
 _CONFIRMED, _BROKEN, _UNDECIDED = 0, 1, 2
-_TO_FG = {CE: "i_fon", FR: "i_posf"}  # force condition that sends a moving state to force generation
+#: force condition that sends a moving state to force generation
+_TO_FG: dict[int, str] = {CE: "i_fon", FR: "i_posf"}
 _FORCE_WINDOW = 4096  # samples over which force conditions are evaluated at once (doubled on demand)
 
 
@@ -332,7 +334,7 @@ class Segmenter:
         """End of data: close whatever is open."""
         if self._prev_ns is None:
             return
-        if self.state in ACTIVE:
+        if self.state in APPLICATION_PHASES:
             self._close(self._prev_ns, "partial", out)
         elif self.state == MOTION:
             self._close(self._prev_ns, "motion", out)
@@ -343,7 +345,7 @@ class Segmenter:
         self._ring, self._ring_force, self._home = np.empty(0), np.empty(0), (np.nan, np.nan)
         if self.state == REST:
             return
-        self._close(end_ns, "interrupted" if self.state in ACTIVE else "motion", out)
+        self._close(end_ns, "interrupted" if self.state in APPLICATION_PHASES else "motion", out)
         self.state = UNKNOWN
 
     def _start(self, s: int) -> None:
@@ -437,7 +439,7 @@ class Segmenter:
 class SampleLabels:
     """Phase and application of every sample of a recording (:func:`label_samples`)."""
 
-    phase: np.ndarray  # int8 per sample: REST (-1), CE, FG, FM, FR (0..3, as PHASES) or MOTION (4)
+    phase: np.ndarray  # int8 per sample: REST (-1) or the Phase of its state (MOTION: idle)
     cycle: np.ndarray  # int32 per sample: 0-based index of its segment; rest belongs to the segment before
     kinds: tuple[str, ...]  # Segment.kind of each segment, in order
     force_baseline: np.ndarray  # rest level b of each segment [N]

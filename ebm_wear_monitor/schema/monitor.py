@@ -53,7 +53,7 @@ class CycleSummary(Record):
     end_ns: int = quantity("ns", "end of the application (back at rest after force release)",
                            msg={_CYCLE: _STAMP}, columns={"applications": Column("stamp_s", _seconds)})
     phase_durations_s: tuple[float, float, float, float] = quantity(
-        "s", "duration of each phase of 000 Fig. 2 (segmentation.PHASES order)",
+        "s", "duration of each phase of 000 Fig. 2 (domain.phases.PHASES order)",
         msg={_CYCLE: ("clearance_elimination_s", "force_generation_s", "force_maintenance_s",
                       "force_release_s")})
     peak_force_n: float = quantity("N", "peak axial force", msg={_CYCLE: "peak_force_n"},

@@ -8,7 +8,7 @@ Public API::
     simulate_current_driven(unit | ActuatorModel, t, current, x0=(angle, velocity)) -> Trajectory
     simulate_voltage_driven(unit | ActuatorModel, t, voltage, x0=None) -> Trajectory
     actuator_model(unit) -> ActuatorModel; apply_effects(model, effects) -> ActuatorModel
-    CATALOG, PHASES, SensorNoise, NOISELESS, BrakeController
+    CATALOG, SensorNoise, NOISELESS, BrakeController   (phases: ebm_wear_monitor.domain.phases)
 
 Modules: :mod:`.friction` (004 eq. 9), :mod:`.clamp` (eq. 5-6), :mod:`.dynamics`
 (eq. 1-8, integrator), :mod:`.holding` (eq. 1, 9, 42: calc actuator), :mod:`.controller` (four
@@ -17,7 +17,7 @@ phases of 000 Fig. 2), :mod:`.effects` (catalog), :mod:`.sensors` (noise), :mod:
 of its figures (eq. 10-17, 43) reproduce the paper: :mod:`ebm_wear_monitor.validation.papers`.
 """
 
-from ebm_wear_monitor.twin.controller import PHASES, BrakeController
+from ebm_wear_monitor.twin.controller import BrakeController
 from ebm_wear_monitor.twin.dynamics import (
     ActuatorModel,
     Trajectory,
@@ -35,7 +35,6 @@ __all__ = [
     "CATALOG",
     "DEFAULT_DEMANDS",
     "NOISELESS",
-    "PHASES",
     "ActuatorModel",
     "BrakeController",
     "FrictionLaw",

@@ -39,11 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ebm_wear_monitor.arrays import Floats
+from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, limit_voltage, voltage_interval
 
-#: phase names; codes are the indices (interface.md section 4 names the first four)
-PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release", "idle")
-CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE = range(5)
 #: lowest rate at which the brake controller runs [Hz] (slower recordings are decimated from it)
 CONTROL_RATE_HZ = 1000.0
 
@@ -104,6 +102,7 @@ def run_duty_cycles(model: ActuatorModel, demands: np.ndarray, holds: np.ndarray
         substeps: integrator steps per sample.
     """
     c = controller
+    CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE = Phase
     demands, holds = np.asarray(demands, float), np.asarray(holds, float)
     batch, dt = demands.shape, 1.0 / rate_hz
     e_ff = hold_voltage(model, demands)

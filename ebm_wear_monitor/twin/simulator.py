@@ -44,11 +44,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ebm_wear_monitor.domain.phases import PHASE_NAMES
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.controller import (
     CONTROL_RATE_HZ,
-    PHASES,
     BrakeController,
     ClosedLoopRecord,
     run_duty_cycles,
@@ -72,7 +72,7 @@ class SimResult:
     """Recorded-like signals of a run, their truth, and the ground truth of wear and clearance.
 
     Sample arrays have shape (n,); ``angle``/``velocity`` are screw-side (interface.md
-    section 2); ``phase`` holds codes into :data:`PHASES`; ``cycle`` the application index.
+    section 2); ``phase`` holds codes into :data:`PHASE_NAMES`; ``cycle`` the application index.
     """
 
     t: np.ndarray  # sample times [s]
@@ -85,7 +85,7 @@ class SimResult:
     clean: dict[str, np.ndarray]  # noise-free truth: angle, velocity, axial_force, current,
     # voltage [V], motor_torque and friction_torque [N m] (motor shaft)
     truth: dict  # per-application ground truth (see :func:`simulate_unit`)
-    phases: tuple[str, ...] = PHASES
+    phases: tuple[str, ...] = PHASE_NAMES
 
     def signals(self) -> dict[str, np.ndarray]:
         """The four input signals by name, as ``bagio.write_unit_bag`` takes them."""
@@ -109,7 +109,7 @@ class SimResult:
             "noise_std": dict(tr["noise_std"]),
             "rate_hz": tr["rate_hz"],
             "seed": tr["seed"],
-            "phase_names": list(PHASES),
+            "phase_names": list(PHASE_NAMES),
             "cycle_start_s": [float(v) for v in tr["cycle_start_s"]],
             "phase_start_s": [[None if math.isnan(v) else float(v) for v in row]
                               for row in tr["phase_start_s"].tolist()],
@@ -171,7 +171,7 @@ def simulate_unit(  # noqa: PLR0917 (the positional order of the issue's API)
     each application [m]}, ``clearance_m`` (x_ag during each application) and
     ``clearance_after_m`` [m], ``effects``, ``wear_acceleration``, ``demands_N``, ``hold_s``,
     ``cycle_start_s``, ``phase_start_s`` (application x phase start times [s], phases as
-    :data:`PHASES`), ``noise_std``, ``eol_cycles`` (applications since new at which x_ag reaches
+    :data:`PHASE_NAMES`), ``noise_std``, ``eol_cycles`` (applications since new at which x_ag reaches
     the unit's ``monitor.clearance_limit``, extrapolated linearly; None without growth).
     """
     if isinstance(cycles, bool) or int(cycles) != cycles or cycles < 1:
@@ -282,9 +282,9 @@ def _assemble(plant: ActuatorModel, records: list[tuple[ClosedLoopRecord, int]],
     phase, cycle = clean.pop("phase").astype(np.int8), clean.pop("cycle")
     truth["cycle_start_s"] = np.array(starts)
     # start time of each phase of each application [s] (NaN if a phase never came)
-    first = np.full((len(starts), len(PHASES)), np.nan)
+    first = np.full((len(starts), len(PHASE_NAMES)), np.nan)
     index = np.arange(offset)
-    key = cycle.astype(np.int64) * len(PHASES) + phase
+    key = cycle.astype(np.int64) * len(PHASE_NAMES) + phase
     keys, where = np.unique(key, return_index=True)
     first.flat[keys] = index[where] * dt
     truth["phase_start_s"] = first

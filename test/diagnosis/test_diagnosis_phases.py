@@ -8,8 +8,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
-from ebm_wear_monitor.diagnosis.phases import IDLE, segment
+from ebm_wear_monitor.diagnosis.phases import segment
 from ebm_wear_monitor.diagnosis.residuals import Nominal
+from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.params import load_unit
 
 
@@ -21,7 +22,7 @@ def test_cycles_and_phase_order():
     for c in range(6):
         codes = seg.phase[seg.cycle == c]
         runs = codes[np.concatenate(([True], codes[1:] != codes[:-1]))]
-        runs = runs[runs != IDLE]
+        runs = runs[runs != Phase.IDLE]
         # each application: clearance elimination, force generation, maintenance, release, in this order
         assert list(runs) == [0, 1, 2, 3]
 

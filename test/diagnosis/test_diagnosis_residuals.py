@@ -9,10 +9,10 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
-from ebm_wear_monitor.diagnosis.phases import GENERATION
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
 from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 
@@ -59,7 +59,7 @@ def test_viscous_effect_appears_as_torque_proportional_to_speed(nom):
 def test_clearance_shows_in_force_channel_only_during_contact(nom):
     m = residual_model(synth(nom, Augment(clearance=2e-5), cycles=4, noise=QUIET), nom)
     b, r = m.blocks, m.residuals()
-    gen = (b.phase == GENERATION) & (b.force > 2e3)
+    gen = (b.phase == Phase.FORCE_GENERATION) & (b.force > 2e3)
     # F_meas - K_b (x - x_ag) = -K_b dx once both laws are in contact
     assert np.median(r["force"][gen]) == pytest.approx(-nom.K_b * 2e-5, rel=0.02)
     assert np.median(np.abs(r["torque"])) < 0.005 * nom.T_fc

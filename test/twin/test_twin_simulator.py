@@ -7,10 +7,13 @@ import math
 import numpy as np
 import pytest
 
+from ebm_wear_monitor.domain.phases import PHASE_NAMES as PHASES
+from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
-from ebm_wear_monitor.twin import CATALOG, NOISELESS, PHASES, SensorNoise, simulate_unit
-from ebm_wear_monitor.twin.controller import CLEARANCE, GENERATION, IDLE, MAINTENANCE, RELEASE
+from ebm_wear_monitor.twin import CATALOG, NOISELESS, SensorNoise, simulate_unit
+
+CLEARANCE, GENERATION, MAINTENANCE, RELEASE, IDLE = Phase
 
 UNIT = load_unit("embu_000")
 KW = {"hold_s": 0.3, "rest_s": 0.2, "noise": NOISELESS, "wear": False}

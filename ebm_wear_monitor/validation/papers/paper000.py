@@ -30,8 +30,7 @@ import numpy as np
 
 from ebm_wear_monitor.arrays import FloatArray, IntArray
 from ebm_wear_monitor.diagnosis.life import BALL_SHARE_000
-
-PHASES = ("clearance_elimination", "force_generation", "force_maintenance", "force_release")
+from ebm_wear_monitor.domain.phases import Phase
 
 
 @dataclass(frozen=True)
@@ -55,7 +54,7 @@ class DutyCycle000:
                             self.t_hold * time, self.t_decay * time, self.dt)
 
     def sample(self) -> tuple[FloatArray, FloatArray, FloatArray, IntArray]:
-        """(t [s], axial force [N], screw speed [rad/s], phase index into PHASES) at step dt, midpoints."""
+        """(t [s], axial force [N], screw speed [rad/s], Phase code) at step dt, midpoints."""
         apply_angle = 0.5 * self.w_max * self.t_force  # screw angle of force generation [rad]
         ramp_angle = 0.5 * self.w_max * (self.t_ramp + self.t_decay)
         t_rel_hold = max(apply_angle - ramp_angle, 0.0) / self.w_max
@@ -63,22 +62,22 @@ class DutyCycle000:
                            self.t_ramp + t_rel_hold + self.t_decay])
         n = round(edges[-1] / self.dt)
         t = (np.arange(n) + 0.5) * self.dt
-        phase = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, 3)
+        phase = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, Phase.FORCE_RELEASE)
         w = np.zeros(n)
         f = np.zeros(n)
         # clearance elimination
-        m = phase == 0
+        m = phase == Phase.CLEARANCE_ELIMINATION
         w[m] = self.w_max * np.clip(t[m] / self.t_ramp, 0.0, 1.0)
         f[m] = self.f_drag
         # force generation
-        m = phase == 1
+        m = phase == Phase.FORCE_GENERATION
         tau = (t[m] - edges[1]) / self.t_force
         w[m] = self.w_max * (1.0 - tau)
         f[m] = self.f_drag + (self.f_max - self.f_drag) * (1.0 - (1.0 - tau) ** 2)
         # force maintenance
-        f[phase == 2] = self.f_max
+        f[phase == Phase.FORCE_MAINTENANCE] = self.f_max
         # force release: trapezoidal speed, force linear in the angle turned back
-        m = phase == 3
+        m = phase == Phase.FORCE_RELEASE
         tr = t[m] - edges[3]
         t1, t2 = self.t_ramp, self.t_ramp + t_rel_hold
         speed = np.where(tr < t1, tr / t1, np.where(tr < t2, 1.0, np.clip((edges[4] - edges[3] - tr)
@@ -103,8 +102,8 @@ def cycle_wear(rates_fn: Callable[[FloatArray, FloatArray], Any],
     cycle = cycle or DutyCycle000()
     _, f, w, phase = cycle.sample()
     r = rates_fn(f, w)
-    apply = phase <= 1
-    release = phase == 3
+    apply = phase <= Phase.FORCE_GENERATION
+    release = phase == Phase.FORCE_RELEASE
     out = {name: float(np.sum(getattr(r, name)) * cycle.dt) for name in ("screw", "nut", "ball")}
     for name in ("screw", "nut"):
         rate = getattr(r, name)

@@ -1,0 +1,61 @@
+"""The phases of a brake application (000 Fig. 2, Sec. 4.1): one enumeration for the whole project.
+
+A brake application (duty cycle) runs through four phases, named as in interface.md section 4:
+
+* ``clearance_elimination``: the screw turns in the apply direction, no clamp force yet
+  (004 eq. 5 with x <= x_ag);
+* ``force_generation``: the pads touch, the force rises to its maximum while the screw slows down;
+* ``force_maintenance``: the screw is at rest and the force is held (the stick branch of 004 eq. 9;
+  no sliding, hence no wear: 000 Sec. 2);
+* ``force_release``: the screw turns back and the force falls to zero.
+
+``idle`` is the time between applications (at rest with the pads open, or any motion outside an
+application). The integer codes are the enumeration values: per-sample phase arrays (the twin's
+truth, the monitor's kept samples, the diagnosis' labels) hold them as int8, and arrays indexed by
+phase have ``len(Phase)`` entries in this order.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+import numpy as np
+
+from ebm_wear_monitor.arrays import IntArray
+
+
+class Phase(IntEnum):
+    """Phase code of a sample: the four phases of a brake application, then ``idle``."""
+
+    CLEARANCE_ELIMINATION = 0
+    FORCE_GENERATION = 1
+    FORCE_MAINTENANCE = 2
+    FORCE_RELEASE = 3
+    IDLE = 4
+
+    @property
+    def label(self) -> str:
+        """The phase's name in interface.md section 4 (``"force_generation"``; ``"idle"``)."""
+        return self.name.lower()
+
+
+#: the four phases of a brake application, in code order
+APPLICATION_PHASES: tuple[Phase, ...] = tuple(p for p in Phase if p is not Phase.IDLE)
+#: their names (interface.md section 4: the phase strings of the JSON outputs and the messages)
+PHASES: tuple[str, ...] = tuple(p.label for p in APPLICATION_PHASES)
+#: every phase name in code order, ``idle`` last (the twin's truth: ``phase_names``)
+PHASE_NAMES: tuple[str, ...] = tuple(p.label for p in Phase)
+
+
+def run_starts(code: IntArray) -> IntArray:
+    """Indices at which a run of equal values starts in ``code`` (0 first; empty for empty input)."""
+    code = np.asarray(code)
+    if code.size == 0:
+        return np.empty(0, np.intp)
+    return np.flatnonzero(np.concatenate(([True], code[1:] != code[:-1])))
+
+
+def run_ids(phase: IntArray, cycle: IntArray) -> IntArray:
+    """Id (0, 1, ...) of the run of equal (cycle, phase) each sample belongs to (int64 per sample)."""
+    key = np.asarray(cycle).astype(np.int64) * len(Phase) + np.asarray(phase).astype(np.int64)
+    return np.cumsum(np.concatenate(([0], (key[1:] != key[:-1]).astype(np.int64))))
