@@ -15,7 +15,8 @@ import time
 
 import numpy as np
 
-from ebm_wear_monitor.monitor import SIGNALS, MonitorCore
+from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS as SIGNALS
+from ebm_wear_monitor.monitor import MonitorCore
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin import simulate_unit
 

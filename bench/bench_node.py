@@ -38,9 +38,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS
+
 REPO = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
-SIGNALS = ("angle", "velocity", "axial_force")
 
 
 def _test_helpers():
@@ -60,7 +61,7 @@ def bare_subscriber(executor_kind: str) -> int:
     import rclpy
     from rclpy.signals import SignalHandlerOptions
 
-    from ebm_wear_monitor.monitor.wire import INPUT_TOPICS
+    from ebm_wear_monitor.domain.signals import INPUT_TOPICS
     from ebm_wear_monitor.ros.node import make_executor
     from ebm_wear_monitor.ros.qos import input_qos
 
@@ -69,8 +70,8 @@ def bare_subscriber(executor_kind: str) -> int:
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     from ebm_wear_msgs.msg import Float64Stamped
     node = rclpy.create_node("bare_subscriber", namespace="/embu")
-    logs: dict[str, list] = {s: [] for s in SIGNALS}
-    for s in SIGNALS:
+    logs: dict[str, list] = {s: [] for s in MONITOR_SIGNALS}
+    for s in MONITOR_SIGNALS:
         log = logs[s]
         node.create_subscription(Float64Stamped, INPUT_TOPICS[s],
                                  lambda m, log=log: log.append((time.time(), m)), input_qos(False, 1000))
@@ -109,11 +110,11 @@ def publish(rate_hz: float, seconds: float, pid: int
     rclpy.init()
     node = rclpy.create_node("bench_publisher")
     try:
-        player = Player(node, "/embu", {s: (t, values[s]) for s in SIGNALS})
+        player = Player(node, "/embu", {s: (t, values[s]) for s in MONITOR_SIGNALS})
         if not player.wait_for_subscribers(1, 30.0):
             raise TimeoutError("subscriber never matched")
         offset = time.time() + 0.2 - t[0]  # header stamps = wall-clock publish times
-        signals = {s: (t + offset, values[s]) for s in SIGNALS}
+        signals = {s: (t + offset, values[s]) for s in MONITOR_SIGNALS}
         cpu0, started = cpu_seconds(pid), time.monotonic()
         n = player.play(1.0, offset, start_wall_s=t[0] + offset)
         elapsed = time.monotonic() - started
@@ -133,10 +134,10 @@ def completing_stamps(signals: dict[str, tuple[np.ndarray, np.ndarray]]) -> list
     core = MonitorCore(load_unit())
     stamps = signals["angle"][0]
     edges = np.arange(stamps[0], stamps[-1] + 0.002, 0.001)
-    idx = {s: np.searchsorted(signals[s][0], edges, side="right") for s in SIGNALS}
+    idx = {s: np.searchsorted(signals[s][0], edges, side="right") for s in MONITOR_SIGNALS}
     done = []
     for k in range(1, len(edges)):
-        for s in SIGNALS:
+        for s in MONITOR_SIGNALS:
             a, b = idx[s][k - 1], idx[s][k]
             if b > a:
                 core.add(s, signals[s][0][a:b], signals[s][1][a:b])
@@ -182,7 +183,8 @@ def run_once(kind: str, rate_hz: float, seconds: float, executor: str, process_r
             recv = [m["recv"] for m in msgs if m["topic"] == "duty_cycle"]
             done = completing_stamps(signals)
             lat = np.array(recv[: len(done)]) - np.array(done[: len(recv)])
-            result |= {"processed": sum(int(kv[f"received_{s}"]) for s in SIGNALS), "cycles": len(recv),
+            result |= {"processed": sum(int(kv[f"received_{s}"]) for s in MONITOR_SIGNALS),
+                       "cycles": len(recv),
                        "cycles_expected": len(done),
                        "lat_p50": float(np.percentile(lat, 50)) if len(lat) else None,
                        "lat_p99": float(np.percentile(lat, 99)) if len(lat) else None}

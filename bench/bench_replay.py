@@ -38,7 +38,7 @@ import numpy as np
 from rosbags.rosbag2 import Reader
 
 from ebm_wear_monitor.bagio import BagReader, BagWriter, Series, write_unit_bag
-from ebm_wear_monitor.monitor import SIGNALS
+from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS as SIGNALS
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.run import replay_bags
 from ebm_wear_monitor.twin import simulate_unit

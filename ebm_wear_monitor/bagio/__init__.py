@@ -4,7 +4,8 @@ Public API (all lengths/times SI; signals named as in interface.md section 4)::
 
     from ebm_wear_monitor.bagio import (
         write_unit_bag, BagWriter, Series, BagReader, read_bags, Recording, UnitData, Signal,
-        read_ground_truth, typestore, FLOAT64_STAMPED, INPUT_TOPICS, split_topic, topic_name)
+        read_ground_truth, typestore)
+    # topic names, signal names and the message type: ebm_wear_monitor.domain.signals
 
     n = write_unit_bag(path, t, signals_by_namespace, *, storage="mcap", frame_id="",
                        ground_truth=None) -> int
@@ -41,12 +42,9 @@ from ebm_wear_monitor.bagio.reader import BagReader, Recording, Signal, UnitData
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE, read_ground_truth
 from ebm_wear_monitor.bagio.types import message_types, msg_dir, typestore
 from ebm_wear_monitor.bagio.writer import STORAGES, BagWriter, Series, write_unit_bag
-from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS, split_topic, topic_name
 
 __all__ = [
-    "FLOAT64_STAMPED",
     "GROUND_TRUTH_FILE",
-    "INPUT_TOPICS",
     "STORAGES",
     "BagReader",
     "BagWriter",
@@ -59,8 +57,6 @@ __all__ = [
     "msg_dir",
     "read_bags",
     "read_ground_truth",
-    "split_topic",
-    "topic_name",
     "typestore",
     "write_unit_bag",
 ]

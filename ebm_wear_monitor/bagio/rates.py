@@ -17,8 +17,8 @@ from collections.abc import Iterable
 import numpy as np
 
 from ebm_wear_monitor.bagio.reader import UnitData
+from ebm_wear_monitor.domain.signals import INPUT_TOPICS
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor.wire import INPUT_TOPICS
 
 #: lowest sample rate of the contract [Hz] (interface.md section 2: "bags may hold 100 Hz to 2 kHz")
 MIN_RATE_HZ = 100.0

@@ -43,16 +43,9 @@ import numpy as np
 import yaml
 
 from ebm_wear_monitor.bagio.storage import Chunk, Records, Storage, open_storage
+from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, split_topic
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor.wire import (
-    FLOAT64_STAMPED,
-    INPUT_TOPICS,
-    Batch,
-    Decoded,
-    decode_uniform,
-    split_topic,
-    stamp_ns,
-)
+from ebm_wear_monitor.monitor.wire import Batch, Decoded, decode_uniform, stamp_ns
 
 STORAGE_SUFFIX = {".db3": "sqlite3", ".mcap": "mcap"}
 

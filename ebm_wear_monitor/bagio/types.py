@@ -17,7 +17,7 @@ from pathlib import Path
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from rosbags.typesys.store import Typestore
 
-from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED
+from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED
 
 #: ROS 2 interface package of the project's messages (``msg_defs/``)
 MSG_PACKAGE = FLOAT64_STAMPED.split("/", 1)[0]

@@ -29,8 +29,9 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE
 from ebm_wear_monitor.bagio.types import typestore
+from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, check_namespace, topic_name
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS, check_namespace, encode, topic_name
+from ebm_wear_monitor.monitor.wire import encode
 
 #: storage names accepted by the writer (the ``storage_identifier`` of rosbag2)
 STORAGES: dict[str, StoragePlugin] = {"sqlite3": StoragePlugin.SQLITE3, "mcap": StoragePlugin.MCAP}

@@ -15,6 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ebm_wear_monitor.domain.signals import DEFAULT_NAMESPACE
 from ebm_wear_monitor.errors import InputError
 
 
@@ -42,7 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="sensor-noise seed (default 0)")
     parser.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap")
     parser.add_argument("--rate", type=float, default=1000.0, metavar="HZ", help="sample rate (default 1000)")
-    parser.add_argument("--namespace", default="/embu", metavar="NS", help="unit namespace (default /embu)")
+    parser.add_argument("--namespace", default=DEFAULT_NAMESPACE, metavar="NS",
+                        help=f"unit namespace (default {DEFAULT_NAMESPACE})")
     parser.add_argument("--hold", type=float, nargs="+", default=[1.0], metavar="S",
                         help="force-maintenance time(s) [s], cycled (default 1.0)")
     parser.add_argument("--rest", type=float, default=0.5, metavar="S",
@@ -57,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ebm_wear_monitor.bagio import write_unit_bag
-    from ebm_wear_monitor.monitor.wire import check_namespace
+    from ebm_wear_monitor.domain.signals import check_namespace
     from ebm_wear_monitor.outputs import check_destination
     from ebm_wear_monitor.params import load_unit
     from ebm_wear_monitor.twin import NOISELESS, SensorNoise, simulate_unit

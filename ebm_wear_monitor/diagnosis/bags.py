@@ -16,7 +16,8 @@ import numpy as np
 
 from ebm_wear_monitor.bagio import read_bags
 from ebm_wear_monitor.bagio.rates import check_rates
-from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording, recording_from_signals
+from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
+from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorConfig
 from ebm_wear_monitor.monitor.alignment import absurd_limits

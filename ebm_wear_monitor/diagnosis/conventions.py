@@ -62,6 +62,7 @@ from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
 from ebm_wear_monitor.domain.phases import Phase, run_ids
+from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.schema.diagnose import Estimate
 
 REST_WINDOW_S = 0.02  # idle time before an application over which its rest angle is taken [s]
@@ -200,6 +201,6 @@ def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WI
         "angle_noise_rad": Estimate(sigma_angle, 0.0, "rad"),
     }
     est |= _velocity_convention(rec, speed, moving)
-    for name in ("angle", "velocity", "axial_force", "current"):
+    for name in SIGNALS:
         est[f"{name}_rate_Hz"] = Estimate(1.0 / rec.interval(name), 0.0, "Hz")
     return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, released, est)

@@ -38,9 +38,10 @@ from ebm_wear_monitor.diagnosis.ranking import (
     rank,
     separating_experiment,
 )
-from ebm_wear_monitor.diagnosis.recording import SIGNALS, Recording
+from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, Nominal, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
+from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.schema.diagnose import Cycles, DiagnosisResult, Estimate, FrictionRefit
 

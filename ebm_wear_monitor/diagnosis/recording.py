@@ -22,11 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ebm_wear_monitor.domain.signals import DEFAULT_NAMESPACE, INPUT_TOPICS, SIGNALS
 from ebm_wear_monitor.errors import InputError
-
-SIGNALS = ("angle", "velocity", "axial_force", "current")
-TOPIC_OF = {"angle": "screw/angle", "velocity": "screw/velocity",
-            "axial_force": "axial_force", "current": "motor/current"}
 
 
 @dataclass(frozen=True)
@@ -38,7 +35,7 @@ class Recording:
     velocity: np.ndarray  # screw angular velocity as recorded [rad/s]
     axial_force: np.ndarray  # axial (clamp) force reading, compressive positive [N]
     current: np.ndarray  # motor armature current [A]
-    unit: str = "/embu"
+    unit: str = DEFAULT_NAMESPACE
     #: median native sample interval of each signal before interpolation [s] (default: the time base's)
     native_dt: dict[str, float] = field(default_factory=dict)
 
@@ -77,19 +74,19 @@ def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
-                           unit: str = "/embu") -> Recording:
+                           unit: str = DEFAULT_NAMESPACE) -> Recording:
     """Build a :class:`Recording` from ``{signal: (stamps [s], values)}`` of one namespace.
 
-    Signal names are those of interface.md section 4 (``angle``, ``velocity``,
-    ``axial_force``, ``current``; topics in :data:`TOPIC_OF`); all four are needed
+    Signal names are those of interface.md section 4 (``angle``, ``velocity``, ``axial_force``,
+    ``current``; topics in :data:`~ebm_wear_monitor.domain.signals.INPUT_TOPICS`); all four are needed
     (the twin is driven by the recorded motor current).  Signals are interpolated
     linearly onto the stamps of ``angle`` within the span common to angle, force and current.
     """
     series = {}
-    for name, topic in TOPIC_OF.items():
+    for name, topic in INPUT_TOPICS.items():
         if name not in signals:
             raise InputError(f"{unit}: topic '{topic}' missing; the diagnosis needs all of "
-                             f"{', '.join(TOPIC_OF.values())}")
+                             f"{', '.join(INPUT_TOPICS.values())}")
         series[name] = _clean(*signals[name])
         if series[name][0].size < 2:
             raise InputError(f"{unit}: topic '{topic}' has fewer than 2 valid samples")

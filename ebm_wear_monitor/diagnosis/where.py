@@ -27,8 +27,8 @@ from typing import TypeVar
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.ranking import Model, Scorer
-from ebm_wear_monitor.diagnosis.recording import SIGNALS
 from ebm_wear_monitor.domain.phases import PHASES
+from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.schema.diagnose import ForceBin, SpeedBin, Where
 
 B = TypeVar("B", SpeedBin, ForceBin)

@@ -17,7 +17,7 @@ Public API::
 See :mod:`.core` for the data flow and :mod:`.config` for every threshold.
 """
 
-from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, SIGNALS
+from ebm_wear_monitor.monitor.alignment import FAULT_KINDS
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds, parameter_specs
 from ebm_wear_monitor.monitor.core import Application, MonitorCore
 from ebm_wear_monitor.monitor.feeder import Feeder
@@ -37,7 +37,6 @@ from ebm_wear_monitor.schema.monitor import (
 
 __all__ = [
     "FAULT_KINDS",
-    "SIGNALS",
     "STATUSES",
     "STATUS_DUE",
     "STATUS_INSUFFICIENT",

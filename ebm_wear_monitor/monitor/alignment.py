@@ -64,12 +64,13 @@ from typing import Any
 
 import numpy as np
 
+from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS, SIGNALS
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
 from ebm_wear_monitor.monitor.wire import BAD_STAMP_NS
 
-SIGNALS = ("angle", "velocity", "axial_force")
-IGNORED_SIGNALS = ("current",)  # optional topic of the twin; not used by the wear monitor
+#: input signals of interface.md section 2 the wear monitor does not use (the motor current)
+IGNORED_SIGNALS = tuple(s for s in SIGNALS if s not in MONITOR_SIGNALS)
 FAULT_KINDS = ("bad_stamp", "non_finite", "negative", "absurd", "stamp_glitch", "stamp_backwards", "late",
                "duplicate", "out_of_order", "reanchored", "missing", "gap", "undecodable", "lost",
                "interrupted_cycle", "observation_rejected")
@@ -134,9 +135,9 @@ class InputAligner:
     """
 
     def __init__(self, config: MonitorConfig, thresholds: Thresholds, release_floor_ns: int | None = None):
-        self._topics = {s: _Topic() for s in SIGNALS}
+        self._topics = {s: _Topic() for s in MONITOR_SIGNALS}
         # counts per topic, plus "stream" for faults of the aligned stream (gap, interrupted_cycle)
-        self.faults: dict[str, dict[str, int]] = {s: {} for s in (*SIGNALS, "stream")}
+        self.faults: dict[str, dict[str, int]] = {s: {} for s in (*MONITOR_SIGNALS, "stream")}
         self.configure(config, thresholds)
         if release_floor_ns is not None:
             for topic in self._topics.values():
@@ -168,7 +169,7 @@ class InputAligner:
         if signal in IGNORED_SIGNALS:
             return
         if signal not in self._topics:
-            known = ", ".join((*SIGNALS, *IGNORED_SIGNALS))
+            known = ", ".join((*MONITOR_SIGNALS, *IGNORED_SIGNALS))
             raise InputError(f"unknown signal '{signal}' (expected one of {known})")
         stamps = np.atleast_1d(np.asarray(stamps))
         values = np.atleast_1d(np.asarray(values, dtype=np.float64))

@@ -1,4 +1,6 @@
-"""The wire contract of interface.md sections 1-2 in one place: input topics and the Float64Stamped codec.
+"""The Float64Stamped codec of interface.md section 1.
+
+The topics and the type name: :mod:`ebm_wear_monitor.domain.signals`.
 
 Plain numpy, no ROS and no bag library: the live node (raw DDS records) and the
 bag reader (raw storage records) both decode here, so the core gets the very
@@ -30,23 +32,11 @@ Stamps: ``stamp_ns = sec * 1e9 + nanosec`` exactly, as int64. A stamp with
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ebm_wear_monitor.errors import InputError
-
-#: the input type of interface.md section 1: ``std_msgs/Header header`` + ``float64 data``
-FLOAT64_STAMPED = "ebm_wear_msgs/msg/Float64Stamped"
-#: signal name -> topic name relative to the unit's namespace (interface.md section 2)
-INPUT_TOPICS: dict[str, str] = {
-    "angle": "screw/angle",          # rad, unwrapped, positive in the apply direction
-    "velocity": "screw/velocity",    # rad/s
-    "axial_force": "axial_force",    # N, compressive positive
-    "current": "motor/current",      # A (optional input, not used by the wear monitor)
-}
 #: the stamp given to a record whose header.stamp is not a valid time (nanosec >= 1e9) [ns]
 BAD_STAMP_NS = int(np.iinfo(np.int64).min)
 NS_PER_S = 1_000_000_000
@@ -55,41 +45,6 @@ CDR_LE_HEADER = b"\x00\x01\x00\x00"
 #: record size with an empty frame_id [bytes]
 EMPTY_FRAME_RECORD = 28
 _HEAD = 16  # encapsulation + sec + nanosec + string length [bytes]
-
-
-# ---------------------------------------------------------------------------------------------- topics
-def namespace_of(unit: str) -> str:
-    """Normalised namespace: leading '/', no trailing '/' (the root namespace is '/')."""
-    return "/" + unit.strip("/")
-
-
-#: a ROS 2 namespace: '/' or '/'-separated tokens of letters, digits and '_', none starting with a digit
-_NAMESPACE = re.compile(r"/|(/[A-Za-z_][A-Za-z0-9_]*)+")
-
-
-def check_namespace(unit: str) -> str:
-    """``unit`` normalised by :func:`namespace_of`; InputError unless it is a valid ROS 2 namespace."""
-    ns = namespace_of(unit)
-    if not _NAMESPACE.fullmatch(ns):
-        raise InputError(f"{unit!r} is not a ROS 2 namespace (tokens of letters, digits and '_', "
-                         "not starting with a digit, separated by '/')")
-    return ns
-
-
-def topic_name(unit: str, signal: str) -> str:
-    """Absolute topic of ``signal`` under ``unit``: ('/embu', 'angle') -> '/embu/screw/angle'."""
-    return f"{namespace_of(unit).rstrip('/')}/{INPUT_TOPICS[signal]}"
-
-
-def split_topic(topic: str) -> tuple[str, str] | None:
-    """(unit, signal) of an input topic name, or None for any other topic."""
-    name = namespace_of(topic)
-    for signal, relative in INPUT_TOPICS.items():
-        if name == f"/{relative}":
-            return "/", signal
-        if name.endswith(f"/{relative}"):
-            return name[: -len(relative) - 1], signal
-    return None
 
 
 # ---------------------------------------------------------------------------------------------- stamps

@@ -25,8 +25,8 @@ import rclpy
 from diagnostic_msgs.msg import DiagnosticArray
 from rclpy.signals import SignalHandlerOptions
 
+from ebm_wear_monitor.domain.signals import DEFAULT_NAMESPACE, check_namespace
 from ebm_wear_monitor.errors import InputError, exit_status
-from ebm_wear_monitor.monitor.wire import check_namespace
 from ebm_wear_monitor.ros.qos import event_qos, latched_qos
 
 PROG = "ebm-wear-listener"
@@ -51,7 +51,7 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m ebm_wear_monitor.ros.listener",
                                 description="print a wear monitor's outputs (wear, duty_cycle, remaining_life"
                                             " under NAMESPACE, and /diagnostics) as JSON lines")
-    p.add_argument("namespace", nargs="?", default="/embu", metavar="NAMESPACE",
+    p.add_argument("namespace", nargs="?", default=DEFAULT_NAMESPACE, metavar="NAMESPACE",
                    help="the monitor's namespace (default /embu, the node's default)")
     return p
 

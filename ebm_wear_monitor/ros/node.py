@@ -52,11 +52,11 @@ from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 
+from ebm_wear_monitor.domain.signals import DEFAULT_NAMESPACE, FLOAT64_STAMPED, INPUT_TOPICS, MONITOR_SIGNALS
 from ebm_wear_monitor.errors import InputError, exit_status
 from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore, MonitorState, load_state
 from ebm_wear_monitor.monitor.kalman import load_filterpy
 from ebm_wear_monitor.monitor.persistence import backup_path
-from ebm_wear_monitor.monitor.wire import FLOAT64_STAMPED, INPUT_TOPICS
 from ebm_wear_monitor.params import UnitParams, load_unit
 from ebm_wear_monitor.reports.life import life_view
 from ebm_wear_monitor.ros import messages
@@ -74,10 +74,6 @@ from ebm_wear_monitor.ros.qos import event_qos, input_qos, latched_qos
 from ebm_wear_monitor.schema import diagnostic_values
 
 NODE_NAME = "wear_monitor"
-#: the node's namespace when none is given (interface.md section 2)
-DEFAULT_NAMESPACE = "/embu"
-#: the inputs the wear monitor needs (the motor current is for the twin only)
-SIGNALS = ("angle", "velocity", "axial_force")
 STATE_FILE = "monitor_state.json"
 #: fault kinds of the core that are normal operation, not a reason to WARN (still shown as key-values)
 BENIGN_FAULTS = frozenset({"out_of_order"})
@@ -153,11 +149,11 @@ class WearMonitorNode:
 
         qos = input_qos(params.qos_reliability == "reliable", params.qos_depth)
         msg_type = messages.Float64Stamped
-        self.inputs = {s: InputBuffer(s) for s in SIGNALS}
+        self.inputs = {s: InputBuffer(s) for s in MONITOR_SIGNALS}
         # raw=True hands the callback the serialised bytes, which rclpy's annotation does not cover
         self._subs = [node.create_subscription(msg_type, INPUT_TOPICS[s],
                                                self.inputs[s].pending.append,  # type: ignore[arg-type]
-                                               qos, raw=True) for s in SIGNALS]
+                                               qos, raw=True) for s in MONITOR_SIGNALS]
         self.pub_wear = node.create_publisher(messages.WearState, "wear", event_qos())
         self.pub_cycle = node.create_publisher(messages.DutyCycle, "duty_cycle", event_qos())
         self.pub_life = node.create_publisher(messages.RemainingLife, "remaining_life", latched_qos())

@@ -46,10 +46,10 @@ from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.signals import SignalHandlerOptions
 
+from ebm_wear_monitor.domain.signals import INPUT_TOPICS, MONITOR_SIGNALS, check_namespace
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.extras import MissingExtraError, require
-from ebm_wear_monitor.monitor.alignment import SIGNALS as MONITOR_SIGNALS
-from ebm_wear_monitor.monitor.wire import INPUT_TOPICS, check_namespace, encode_records, seconds_to_ns
+from ebm_wear_monitor.monitor.wire import encode_records, seconds_to_ns
 from ebm_wear_monitor.ros.qos import input_qos
 
 PROG = "ebm-wear-player"

@@ -19,10 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ebm_wear_monitor.domain.phases import PHASES
+from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.schema.fields import Record, quantity
-
-#: signal names of interface.md section 4 (domain.signals after the signal contract moves there)
-SIGNALS = ("angle", "velocity", "axial_force", "current")
 
 #: the unit of a value whose entry names it in its ``unit`` key (SI: "m", "N m", "rad/s", "-", ...)
 GIVEN = "unit key"

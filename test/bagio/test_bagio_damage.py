@@ -16,13 +16,13 @@ import numpy as np
 import pytest
 import yaml
 
-from ebm_wear_monitor.bagio import FLOAT64_STAMPED, read_bags, topic_name, write_unit_bag
+from ebm_wear_monitor.bagio import read_bags, write_unit_bag
 from ebm_wear_monitor.cli.main import main
+from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, SIGNALS, topic_name
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.wire import encode_records
 
 REPO = Path(__file__).resolve().parents[2]
-SIGNALS = ("angle", "velocity", "axial_force", "current")
 
 
 def expected_counts(bag: Path) -> dict[str, int]:

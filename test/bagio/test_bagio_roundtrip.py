@@ -11,18 +11,15 @@ import pytest
 from rosbags.rosbag2 import Reader, Writer
 
 from ebm_wear_monitor.bagio import (
-    FLOAT64_STAMPED,
-    INPUT_TOPICS,
     Series,
     message_types,
     msg_dir,
     read_bags,
     read_ground_truth,
-    split_topic,
-    topic_name,
     typestore,
     write_unit_bag,
 )
+from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, topic_name
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.wire import BAD_STAMP_NS, decode_records, encode_records, seconds_to_ns
 
@@ -145,17 +142,6 @@ def test_receive_order_is_kept_and_bags_of_a_unit_concatenate_in_time_order(tmp_
     assert np.allclose(sig.stamps[len(t):], t[order], rtol=0, atol=1e-9)  # stamps carry whole ns
     with pytest.raises(InputError, match="given twice"):  # the same bag under another spelling
         read_bags([tmp_path / "a_early", tmp_path / "b_late" / ".." / "a_early"])
-
-
-def test_topic_names_map_to_units():
-    assert split_topic("/train7/car3/embu2/screw/angle") == ("/train7/car3/embu2", "angle")
-    assert split_topic("/embu/motor/current") == ("/embu", "current")
-    assert split_topic("/screw/velocity") == ("/", "velocity")
-    assert split_topic("/embu/my_axial_force") is None
-    assert split_topic("/embu/wear") is None
-    for unit in ("/", "/a", "/a/b/c"):
-        for signal in INPUT_TOPICS:
-            assert split_topic(topic_name(unit, signal)) == (unit, signal)
 
 
 def _raw_bag(path: Path, topics: dict[str, tuple[str, list[bytes]]], storage: str = "sqlite3") -> None:

@@ -177,7 +177,7 @@ def test_the_glitch_of_the_issue_in_bags_worn(unit, tmp_path):
 
     from rosbags.rosbag2 import Reader
 
-    from ebm_wear_monitor.bagio import split_topic
+    from ebm_wear_monitor.domain.signals import split_topic
     from ebm_wear_monitor.params import load_unit as load
     from ebm_wear_monitor.replay.run import replay_bags
 

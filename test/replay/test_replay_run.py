@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from rosbags.rosbag2 import Reader
 
-from ebm_wear_monitor.bagio import Series, read_bags, split_topic, write_unit_bag
+from ebm_wear_monitor.bagio import Series, read_bags, write_unit_bag
+from ebm_wear_monitor.domain.signals import split_topic
 from ebm_wear_monitor.fleet.synthetic import UnitScenario, write_unit
 from ebm_wear_monitor.monitor import MonitorCore
 from ebm_wear_monitor.monitor.wire import decode_records
