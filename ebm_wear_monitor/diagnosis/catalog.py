@@ -54,8 +54,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.schema.diagnose import Magnitude
+from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 
 @dataclass(frozen=True)
@@ -97,7 +98,7 @@ class Effect:
         return out
 
 
-def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0e4,
+def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float = 3.0e4,
                   speed_range: tuple[float, float] = (0.0, 200.0)) -> dict[str, Effect]:
     """The eight effects of interface.md section 4 for a nominal twin.
 
@@ -105,16 +106,20 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
     parameter scales (a 10 % change of the affected quantity at the recording's range);
     ``speed_range`` (motor, [rad/s]) the speeds over which the efficiency effect's size is taken.
     """
-    d_max = max_force / nom.K_b  # clamp deflection at the largest force [m]
+    f, c = nom.friction, nom.clamp  # 004 eq. 9 and eq. 5-6 of the nominal twin
+    x_ag = float(c.clearance)  # one unit: a scalar [m]
+    d_max = max_force / c.stiffness  # clamp deflection at the largest force [m]
     s_grid = [max_speed * f for f in (0.02, 0.08, 0.3)]
     w_lo, w_hi = speed_range
     effects = [
         Effect("viscous_friction", "lubricant viscous drag larger than modelled (004 reason 1)",
-               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(nom.B, 1e-4),), ((0.0,),),
-               size=lambda p: abs(p[0]) / nom.B, size_meaning="fraction of B", nominal=(("B", nom.B),)),
+               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(f.viscous, 1e-4),), ((0.0,),),
+               size=lambda p: abs(p[0]) / f.viscous, size_meaning="fraction of B",
+               nominal=(("B", f.viscous),)),
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
-               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(nom.G, 1e-6),), ((0.0,),),
-               size=lambda p: abs(p[0]) / nom.G, size_meaning="fraction of G", nominal=(("G", nom.G),)),
+               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(f.load_coefficient, 1e-6),),
+               ((0.0,),), size=lambda p: abs(p[0]) / f.load_coefficient, size_meaning="fraction of G",
+               nominal=(("G", f.load_coefficient),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
                ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),
                (0.1, 0.1 / max_speed), ((0.0, 0.0),),
@@ -123,26 +128,26 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
                             "torque",
                nominal=(None, None)),
         Effect("preload_change", "preload different from design: static and Coulomb shift (004 reason 4)",
-               ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * nom.T_fc,), ((0.0,),),
-               size=lambda p: abs(p[0]) / nom.T_fc, size_meaning="fraction of T_fc",
-               nominal=(("T_fc", nom.T_fc),)),
+               ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * f.coulomb,), ((0.0,),),
+               size=lambda p: abs(p[0]) / f.coulomb, size_meaning="fraction of T_fc",
+               nominal=(("T_fc", f.coulomb),)),
         Effect("stribeck", "friction falling from static to Coulomb over a speed range",
                ("T_S", "w_S"), ("N m", "rad/s"),
                lambda p: Augment(stribeck_torque=p[0], stribeck_speed=p[1]),
-               (0.1 * nom.T_fc, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
+               (0.1 * f.coulomb, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
                (-np.inf, 0.2), (np.inf, 2.0 * max_speed),
-               size=lambda p: abs(p[0]) * (1.0 - np.exp(-((w_hi / p[1]) ** 2))) / nom.T_fc,
+               size=lambda p: abs(p[0]) * (1.0 - np.exp(-((w_hi / p[1]) ** 2))) / f.coulomb,
                size_meaning="fall of the extra friction from zero to the top recorded speed, "
                             "fraction of T_fc",
-               nominal=(("T_fc", nom.T_fc), None)),
+               nominal=(("T_fc", f.coulomb), None)),
         Effect("stiffness_nonlinearity", "clamp stiffness growing with force (004 eq. 5 progressive)",
-               ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * nom.K_b / d_max,),
-               ((0.0,),), channels=("force",), size=lambda p: abs(2.0 * p[0] * d_max) / nom.K_b,
+               ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * c.stiffness / d_max,),
+               ((0.0,),), channels=("force",), size=lambda p: abs(2.0 * p[0] * d_max) / c.stiffness,
                size_meaning="tangent-stiffness change at the largest recorded force, fraction of K_b",
                nominal=(None,)),
         Effect("clearance_growth", "axial clearance larger than nominal (wear)", ("dx",), ("m",),
-               lambda p: Augment(clearance=p[0]), (0.1 * nom.x_ag,), ((0.0,),), channels=("force",),
-               size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", nom.x_ag),)),
+               lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), channels=("force",),
+               size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", x_ag),)),
         Effect("force_sensor_bias", "gain error of the axial-force measurement (the offset is the tare)",
                ("g",), ("-",), lambda p: Augment(force_gain=p[0]), (0.01,), ((0.0,),), (-0.5,), (1.0,),
                channels=("torque", "force"), size_meaning="gain error, fraction of the reading",
@@ -151,7 +156,7 @@ def build_catalog(nom: Nominal, max_speed: float = 200.0, max_force: float = 3.0
     return {e.name: e for e in effects}
 
 
-def friction_refit(nom: Nominal) -> Effect:
+def friction_refit(nom: ActuatorModel) -> Effect:
     """The moving-branch parameters of 004 eq. 9 (T_fc, B, G) corrected at once, as behind 004 Table 4.
 
     (T_fs is not identified by the torque balance at rest, see :mod:`.residuals`.)
@@ -160,11 +165,13 @@ def friction_refit(nom: Nominal) -> Effect:
     would explain any friction effect at the price of three parameters); the diagnosis
     reports it beside the ranking as the unit's refitted friction law.
     """
+    f = nom.friction
     return Effect("friction_refit", "T_fc, B and G of 004 eq. 9 refitted together",
                   ("dT_fc", "dB", "dG"), ("N m", "N m s/rad", "N m/N"),
                   lambda p: Augment(dT_fc=p[0], dB=p[1], dG=p[2]),
-                  (0.1 * nom.T_fc, 0.1 * max(nom.B, 1e-4), 0.1 * max(nom.G, 1e-6)), ((0.0, 0.0, 0.0),),
-                  nominal=(("T_fc", nom.T_fc), ("B", nom.B), ("G", nom.G)))
+                  (0.1 * f.coulomb, 0.1 * max(f.viscous, 1e-4), 0.1 * max(f.load_coefficient, 1e-6)),
+                  ((0.0, 0.0, 0.0),),
+                  nominal=(("T_fc", f.coulomb), ("B", f.viscous), ("G", f.load_coefficient)))
 
 
 def combine(a: Effect, b: Effect) -> Effect:

@@ -39,11 +39,12 @@ from ebm_wear_monitor.diagnosis.ranking import (
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import Recording
-from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, Nominal, ResidualModel, nuisances_of
+from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.schema.diagnose import Cycles, DiagnosisResult, Estimate, FrictionRefit
+from ebm_wear_monitor.twin.dynamics import ActuatorModel, actuator_model
 
 RESIDUAL_METHOD = ("torque balance of 004 eq. 1 re-anchored to the recorded state every block "
                    "(integrated current vs the speed change of the angle) and force-travel law of 004 eq. 5 "
@@ -55,7 +56,7 @@ def shrink(gap_before: float, gap_after: float) -> float:
     return float(1.0 - gap_after / gap_before) if gap_before > 0.0 else 0.0
 
 
-def residual_model(rec: Recording, nominal: Nominal, block_s: float = 0.02) -> ResidualModel:
+def residual_model(rec: Recording, nominal: ActuatorModel, block_s: float = 0.02) -> ResidualModel:
     """Steps 1-3 of the module docstring: phases, conventions, and the residual model of ``rec``."""
     seg = segment(rec)
     return ResidualModel(rec, seg, estimate_conventions(rec, seg), nominal, block_s=block_s)
@@ -63,7 +64,7 @@ def residual_model(rec: Recording, nominal: Nominal, block_s: float = 0.02) -> R
 
 def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Scorer, Ranking]:
     """Segment, estimate conventions, build residuals and rank the catalog (:func:`diagnose_recording`)."""
-    nominal = Nominal.from_unit(unit)
+    nominal = actuator_model(unit)
     model = residual_model(rec, nominal, block_s)
     moving = model.speed[model.moving]
     lo, hi = (np.percentile(moving, [5.0, 95.0]) if moving.size else (0.0, 1.0))
@@ -150,7 +151,8 @@ def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[Diagnos
         for f in ties]
     gap_after = explained.gap_after if explained is not None else ranking.gap_before
     refit = evaluate(sc, friction_refit(nominal), nominal_sse(sc), ranking.gap_before)
-    base = {"dT_fc": nominal.T_fc, "dB": nominal.B, "dG": nominal.G}
+    law = nominal.friction
+    base = {"dT_fc": law.coulomb, "dB": law.viscous, "dG": law.load_coefficient}
     effect = ranking.effect
     return (DiagnosisResult(
         unit=rec.unit,
@@ -172,7 +174,7 @@ def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[Diagnos
         nuisances=nuisance_report(sc),
         near_ties=experiments,
         friction_refit=FrictionRefit(
-            refit.entry(), {"T_fc": nominal.T_fc, "B": nominal.B, "G": nominal.G},
+            refit.entry(), {"T_fc": law.coulomb, "B": law.viscous, "G": law.load_coefficient},
             {k[1:]: base[k] + float(v) for k, v in zip(refit.effect.params, refit.theta, strict=True)}),
         cycles=Cycles(int(np.unique(b.cycle).size), [int(c) for c in sc.split.heldout_cycles]),
         noise={s: signal_noise(getattr(rec, s)) for s in SIGNALS},

@@ -103,7 +103,6 @@ from ebm_wear_monitor.diagnosis.residuals import (
     NOMINAL,
     NUISANCE_UNITS,
     Augment,
-    Nominal,
     ResidualModel,
     clamp_spring,
     kinetic_friction,
@@ -111,6 +110,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.schema.diagnose import Drift, NearTie, Parameter, RankingEntry, Size
+from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
@@ -218,7 +218,7 @@ class Scorer:
         """
         b = model.blocks
         s_t, s_f = block_noise(model)
-        s_t = np.maximum(s_t, 1e-6 * model.nominal.T_fc + 1e-12)  # resolution floors: noise-free data
+        s_t = np.maximum(s_t, 1e-6 * model.nominal.friction.coulomb + 1e-12)  # resolution floors (noise-free)
         s_f = np.maximum(s_f, 1e-3)
         split = split_by_cycle(b.cycle, b.force)
         specs = nuisance_specs(model)
@@ -345,9 +345,10 @@ def block_noise(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:
     ns = (b.stop - b.start + 1).astype(float)
     dt = rec.t[b.stop] - rec.t[b.start]
     var_w = model.sigma_w[b.stop] ** 2 + model.sigma_w[b.start] ** 2
-    var_t = n.J_me**2 * var_w / dt**2 + ((n.K_T * si) ** 2 + ((n.load_ratio + n.G) * sf) ** 2) / ns
+    var_t = n.inertia**2 * var_w / dt**2 \
+        + ((n.torque_constant * si) ** 2 + ((n.transmission + n.friction.load_coefficient) * sf) ** 2) / ns
     contact = (b.force > model.seg.force_rise).astype(float)
-    k_theta = n.K_b * n.lead / (2.0 * np.pi)  # force per screw radian in contact [N/rad]
+    k_theta = n.clamp.stiffness * n.lead / (2.0 * np.pi)  # force per screw radian in contact [N/rad]
     var_f = (sf**2 + contact * (k_theta * conv.sigma_angle) ** 2) / ns \
         + conv.tare_std[b.cycle] ** 2 + contact * (k_theta * conv.rest_angle_std[b.cycle]) ** 2
     return np.sqrt(var_t), np.sqrt(var_f)
@@ -827,8 +828,8 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
     return [first, best_pair[1]], best_pair[0], candidates
 
 
-def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed: float, max_force: float,
-                          sigma_torque: float, sigma_force: float, n: int = 12) -> NearTie:
+def separating_experiment(nom: ActuatorModel, a: EffectFit, b: EffectFit, *, max_speed: float,
+                          max_force: float, sigma_torque: float, sigma_force: float, n: int = 12) -> NearTie:
     """Operating range where two fitted effects disagree most, in noise units.
 
     The moving-branch friction (004 eq. 9 + each augmentation) is compared on a
@@ -842,7 +843,7 @@ def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed
     wc, Fc = np.meshgrid(0.5 * (w[1:] + w[:-1]), 0.5 * (F[1:] + F[:-1]), indexing="ij")
     dT = np.abs(kinetic_friction(nom, a.augment, wc, Fc) - kinetic_friction(nom, b.augment, wc, Fc))
     dT /= sigma_torque
-    x = nom.x_ag + 0.5 * (F[1:] + F[:-1]) / nom.K_b
+    x = nom.clamp.clearance + 0.5 * (F[1:] + F[:-1]) / nom.clamp.stiffness
 
     def reading(aug: Augment) -> np.ndarray:
         return (1.0 + aug.force_gain) * clamp_spring(nom, aug).force(x)
@@ -853,9 +854,9 @@ def separating_experiment(nom: Nominal, a: EffectFit, b: EffectFit, *, max_speed
         k = int(np.argmax(dF))
         speed, force, sep = None, [float(F[k]), float(F[k + 1])], float(dF[k])
     else:
-        speed = [float(w[i] / nom.i_g), float(w[i + 1] / nom.i_g)]
+        speed = [float(w[i] / nom.gear_ratio), float(w[i + 1] / nom.gear_ratio)]
         force, sep = [float(F[j]), float(F[j + 1])], float(dT[i, j])
-    inside = (speed is None or speed[0] * nom.i_g <= max_speed) and force[0] <= max_force
+    inside = (speed is None or speed[0] * nom.gear_ratio <= max_speed) and force[0] <= max_force
     where = (f"screw speed {speed[0]:.3g}-{speed[1]:.3g} rad/s at " if speed else "") + \
         f"clamp force {force[0]:.4g}-{force[1]:.4g} N"
     return NearTie([a.effect.name, b.effect.name], speed, force, sep, bool(inside),

@@ -44,7 +44,7 @@ def _residuals(sc: Scorer, m: Model) -> tuple[np.ndarray, np.ndarray]:
     """Per block, recorded minus model: torque channel as a current [A], force channel [N]."""
     n = sc.model.blocks.size
     z = sc.z_all(m.aug) + sc.D @ m.t
-    return z[:n] * sc.sigma_torque / sc.model.nominal.K_T, z[n:] * sc.sigma_force
+    return z[:n] * sc.sigma_torque / sc.model.nominal.torque_constant, z[n:] * sc.sigma_force
 
 
 def residual_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any]:

@@ -92,42 +92,11 @@ from ebm_wear_monitor.diagnosis.recording import Recording
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S
 from ebm_wear_monitor.domain.phases import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
-from ebm_wear_monitor.twin.dynamics import actuator_model
+from ebm_wear_monitor.twin.dynamics import ActuatorModel
 from ebm_wear_monitor.twin.friction import FrictionLaw, sliding_friction
 
 CHANNELS = ("torque", "force")
-
-
-@dataclass(frozen=True)
-class Nominal:
-    """Parameters of the nominal twin (004 Table 1 and eq. 9 as given by the unit file), motor side."""
-
-    J_me: float  # equivalent inertia at the motor, 004 eq. 2 [kg m^2]
-    K_T: float  # torque constant, 004 eq. 7 [N m / A]
-    i_g: float  # gear ratio, motor turns per screw turn [-]
-    lead: float  # l [m]
-    T_fs: float  # static friction torque [N m]
-    T_fc: float  # Coulomb friction torque [N m]
-    B: float  # viscous coefficient [N m s / rad]
-    G: float  # load coefficient [N m / N]
-    K_b: float  # clamp stiffness, 004 eq. 6 [N/m]
-    x_ag: float  # brake clearance [m]
-
-    @classmethod
-    def from_unit(cls, unit: UnitParams) -> Nominal:
-        """Nominal twin of a unit file (the twin's :func:`~ebm_wear_monitor.twin.dynamics.actuator_model`;
-        InputError without an ``actuator`` block)."""
-        m = actuator_model(unit)
-        f, c = m.friction, m.clamp
-        return cls(m.inertia, m.torque_constant, m.gear_ratio, m.lead, f.static, f.coulomb, f.viscous,
-                   f.load_coefficient, c.stiffness, float(c.clearance))
-
-    @property
-    def load_ratio(self) -> float:
-        """l / (2 pi i_g): load torque at the motor per newton of clamp force, 004 eq. 1 [m/rad]."""
-        return self.lead / (2.0 * math.pi * self.i_g)
 
 
 @dataclass(frozen=True)
@@ -179,7 +148,7 @@ def nuisances_of(aug: Augment) -> dict[str, float]:
     return {f.name: getattr(aug, f.name) for f in fields(aug) if f.name in NUISANCE_UNITS}
 
 
-def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *,
+def kinetic_friction(n: ActuatorModel, aug: Augment, w_m: np.ndarray, F: np.ndarray, *,
                      sign: np.ndarray | None = None, speed: np.ndarray | None = None) -> np.ndarray:
     """Moving branch of 004 eq. 9 with the corrections of ``aug`` [N m].
 
@@ -189,9 +158,10 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     """
     s = np.sign(w_m) if sign is None else sign
     speed = np.abs(w_m) if speed is None else speed
-    T_L = n.load_ratio * F
-    law = FrictionLaw(static=n.T_fs + aug.dT_fs, coulomb=n.T_fc + aug.dT_fc, viscous=n.B + aug.dB,
-                      load_coefficient=n.G + aug.dG)
+    T_L = n.load_torque(F)
+    f = n.friction
+    law = FrictionLaw(static=f.static + aug.dT_fs, coulomb=f.coulomb + aug.dT_fc, viscous=f.viscous + aug.dB,
+                      load_coefficient=f.load_coefficient + aug.dG)
     T = s * (sliding_friction(law, speed, F, T_L) + T_L * (aug.eff_base + aug.eff_speed * speed))
     if aug.reverse_dT_fc or aug.reverse_dG:
         T = T + np.minimum(s, 0.0) * (aug.reverse_dT_fc + aug.reverse_dG * F)
@@ -200,12 +170,12 @@ def kinetic_friction(n: Nominal, aug: Augment, w_m: np.ndarray, F: np.ndarray, *
     return T
 
 
-def clamp_spring(n: Nominal, aug: Augment) -> ClampLaw:
+def clamp_spring(n: ActuatorModel, aug: Augment) -> ClampLaw:
     """004 eq. 5 with the clearance and stiffening of ``aug`` (the twin's :class:`ClampLaw`, whose
     stiffening s = 2 k_2 delta_ref / K_b, so that F = K_b d + k_2 d^2)."""
-    K_b = n.K_b * (1.0 + aug.stiffness_gain)
+    K_b = n.clamp.stiffness * (1.0 + aug.stiffness_gain)
     stiffening = 2.0 * aug.stiffness_quad * STIFFENING_REFERENCE_FORCE / K_b**2
-    return ClampLaw(K_b, n.x_ag + aug.clearance, stiffening)
+    return ClampLaw(K_b, n.clamp.clearance + aug.clearance, stiffening)
 
 
 def first_order_lag(u: np.ndarray, tau: float, dt: float) -> np.ndarray:
@@ -267,23 +237,23 @@ class ResidualModel:
     blocks once; :meth:`residuals` is then a few vectorised passes over the samples.
     """
 
-    def __init__(self, rec: Recording, seg: Segmentation, conv: Conventions, nominal: Nominal,
+    def __init__(self, rec: Recording, seg: Segmentation, conv: Conventions, nominal: ActuatorModel,
                  block_s: float = 0.02) -> None:
         self.rec, self.seg, self.conv, self.nominal = rec, seg, conv, nominal
-        self.w_m = nominal.i_g * conv.speed  # motor speed, 004 eq. 3 [rad/s]
+        self.w_m = nominal.gear_ratio * conv.speed  # motor speed, 004 eq. 3 [rad/s]
         #: 1-sigma noise of the motor speed per sample [rad/s]
-        self.sigma_w = nominal.i_g * conv.sigma_angle * np.sqrt(np.minimum(conv.speed_factor, 1e30))
+        self.sigma_w = nominal.gear_ratio * conv.sigma_angle * np.sqrt(np.minimum(conv.speed_factor, 1e30))
         #: rest band of the motor speed (004 eq. 9 epsilon): 3 sigma of its noise, at least the phase rule's
-        self.eps = max(3.0 * float(np.median(self.sigma_w)), nominal.i_g * 0.5 * seg.eps_velocity)
+        self.eps = max(3.0 * float(np.median(self.sigma_w)), nominal.gear_ratio * 0.5 * seg.eps_velocity)
         self.moving = np.abs(self.w_m) > np.maximum(self.eps, 3.0 * self.sigma_w)
         self.sign = np.sign(self.w_m) * self.moving
         self.speed = np.abs(self.w_m)
         #: J_me dw_m/dt from the speed: the inertia torque of samples at rest (stick branch)
-        self.inertia_torque = nominal.J_me * np.gradient(self.w_m, rec.t)
+        self.inertia_torque = nominal.inertia * np.gradient(self.w_m, rec.t)
         rest, tare = conv.per_sample(seg)
         self.tare = tare
         self.force = rec.axial_force - tare  # tared force reading [N]
-        self.x = nominal.lead * (rec.angle - rest) / (2.0 * math.pi)  # nut travel, eq. 4 [m]
+        self.x = nominal.nut_travel(rec.angle - rest)  # nut travel, 004 eq. 4 [m]
         self.blocks = make_blocks(seg, self.w_m, self.force, self.moving, max(2, round(block_s / rec.dt)))
         if self.blocks.size < 4:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
@@ -293,7 +263,7 @@ class ResidualModel:
         self._n_block = (b.stop - b.start + 1).astype(float)
         self.unresolved_torque = self._unresolved_torque()
         self.ambiguous_torque = self._ambiguous_torque()
-        self.drive_torque_nominal = nominal.K_T * rec.current  # 004 eq. 7 [N m]
+        self.drive_torque_nominal = nominal.torque_constant * rec.current  # 004 eq. 7 [N m]
 
     def _current_jumps(self) -> np.ndarray:
         """|dI| of each sample interval beyond three standard deviations of its noise [A] (zero otherwise)."""
@@ -322,12 +292,12 @@ class ResidualModel:
         jump = self._current_jumps()
         h = np.maximum(np.diff(rec.t), rec.interval("current"))
         err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
-        integral = n.K_T * (err[b.stop] - err[b.start]) / self._dt_block
+        integral = n.torque_constant * (err[b.stop] - err[b.start]) / self._dt_block
         half = max(2, round(0.5 * WINDOW_S / rec.dt))
         padded = np.concatenate((np.zeros(half), jump, np.zeros(half + 1)))
         largest = np.max(np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1), axis=1)[:rec.t.size]
         h_s = half * rec.dt
-        end = n.K_T * largest * h_s / 4.0  # torque-equivalent speed bias J_me dw at a sample [N m s]
+        end = n.torque_constant * largest * h_s / 4.0  # torque-equivalent speed bias J_me dw [N m s]
         speed = np.hypot(end[b.start], end[b.stop]) / self._dt_block
         return np.hypot(integral, speed)
 
@@ -368,7 +338,7 @@ class ResidualModel:
         amb = cum(((adt <= bound) & moving_interval).astype(float))
         mov = cum(moving_interval.astype(float))
         share = (amb[b.stop] - amb[b.start]) / np.maximum(mov[b.stop] - mov[b.start], 1.0)
-        band = (n.T_fs + n.G * np.abs(b.force)) / math.sqrt(3.0)
+        band = (n.friction.static + n.friction.load_coefficient * np.abs(b.force)) / math.sqrt(3.0)
         return share * band * (b.moving & irregular)
 
     # ----------------------------------------------------------------- model terms per sample
@@ -392,14 +362,14 @@ class ResidualModel:
         """
         n = self.nominal
         F = self.load_force(aug)
-        T_L = n.load_ratio * F
+        T_L = n.load_torque(F)
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
         stuck = self.drive(aug) - T_L - (1.0 + aug.inertia_gain) * self.inertia_torque  # module docstring
         return np.where(self.moving, kinetic, stuck), T_L
 
     def drive(self, aug: Augment) -> np.ndarray:
         """Motor torque K_T (I - i_0) [N m] (004 eq. 7), the current read ``aug.current_shift`` later."""
-        K_T = self.nominal.K_T * (1.0 + aug.drive_gain)
+        K_T = self.nominal.torque_constant * (1.0 + aug.drive_gain)
         return K_T * (self._read_later(self.rec.current, aug.current_shift) - aug.current_offset)
 
     def force_model(self, aug: Augment) -> np.ndarray:
@@ -425,7 +395,7 @@ class ResidualModel:
         """R_T per block [N m] (module docstring); ``C`` the net-torque integral when already known."""
         b = self.blocks
         C = self._net_integral(aug) if C is None else C
-        J = self.nominal.J_me * (1.0 + aug.inertia_gain)
+        J = self.nominal.inertia * (1.0 + aug.inertia_gain)
         return (C[b.stop] - C[b.start] - J * self._dw_block) / self._dt_block
 
     def force_residual(self, aug: Augment) -> np.ndarray:
@@ -450,12 +420,12 @@ class ResidualModel:
         C = self._net_integral(aug)
         torque = self.torque_residual(aug, C)
         # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
-        g = C / n.J_me - self.w_m
+        g = C / n.inertia - self.w_m
         D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))))
-        angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.J_me) * self._dt_block
+        angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.inertia) * self._dt_block
         return {
-            "current": -torque / n.K_T,
-            "velocity": torque * self._dt_block / n.J_me / n.i_g,
-            "angle": angle_err / n.i_g,
+            "current": -torque / n.torque_constant,
+            "velocity": torque * self._dt_block / n.inertia / n.gear_ratio,
+            "angle": angle_err / n.gear_ratio,
             "axial_force": -self.force_residual(aug),
         }

@@ -61,7 +61,8 @@ import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.diagnosis.residuals import Augment
+from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 
 @dataclass(frozen=True)
@@ -69,7 +70,7 @@ class Tolerance:
     """One entry of the budget: a healthy unit's deviation at the bound, and why."""
 
     name: str
-    deviation: Callable[[Nominal], Augment]  # the model change at the bound
+    deviation: Callable[[ActuatorModel], Augment]  # the model change at the bound
     reason: str
 
 
@@ -79,9 +80,11 @@ BUDGET: tuple[Tolerance, ...] = (
     Tolerance("inertia", lambda n: Augment(inertia_gain=0.02),
               "J_me +-2 %: datasheet rotor and gear inertia"),
     Tolerance("direction_asymmetry",
-              lambda n: Augment(reverse_dT_fc=-0.0743 * n.T_fc, reverse_dG=-0.0293 * n.G),
+              lambda n: Augment(reverse_dT_fc=-0.0743 * n.friction.coulomb,
+                                reverse_dG=-0.0293 * n.friction.load_coefficient),
               "004 Table 3: T_fc 7.43 % and G 2.93 % lower in reverse"),
-    Tolerance("viscous", lambda n: Augment(dB=0.10 * n.B), "B +-10 %: +-4 K of lubricant temperature"),
+    Tolerance("viscous", lambda n: Augment(dB=0.10 * n.friction.viscous),
+              "B +-10 %: +-4 K of lubricant temperature"),
     Tolerance("stiffness", lambda n: Augment(stiffness_gain=0.03), "K_b +-3 %: pad modulus"),
     Tolerance("clearance", lambda n: Augment(clearance=5e-6), "x_ag +-5 um: thermal, release position"),
     Tolerance("load_cell", lambda n: Augment(force_gain=0.01), "load-cell gain +-1 %: class 0.5"),

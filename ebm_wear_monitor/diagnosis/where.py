@@ -47,9 +47,9 @@ def signal_z(sc: Scorer, m: Model) -> dict[str, np.ndarray]:
     tol = sc.D @ m.t  # every block, torque then force
     tol_t, tol_f = tol[:b.size], tol[b.size:]
     return {
-        "current": -res["current"] * n.K_T / sc.sigma_torque + tol_t,
-        "velocity": res["velocity"] * n.J_me * n.i_g / (sc.sigma_torque * dt) + tol_t,
-        "angle": res["angle"] * 2.0 * n.J_me * n.i_g / (sc.sigma_torque * dt * dt) + tol_t,
+        "current": -res["current"] * n.torque_constant / sc.sigma_torque + tol_t,
+        "velocity": res["velocity"] * n.inertia * n.gear_ratio / (sc.sigma_torque * dt) + tol_t,
+        "angle": res["angle"] * 2.0 * n.inertia * n.gear_ratio / (sc.sigma_torque * dt * dt) + tol_t,
         "axial_force": -res["axial_force"] / sc.sigma_force - tol_f,
     }
 

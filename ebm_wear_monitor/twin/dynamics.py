@@ -54,6 +54,12 @@ from ebm_wear_monitor.twin.friction import FrictionLaw, breakaway_friction, fric
 ZERO_SPEED_BAND = 0.01
 
 
+def transmission(lead: float, gear_ratio: float) -> float:
+    """``l / (2 π i_g)`` [m/rad]: nut travel per motor radian (eq. 3-4), load torque at the motor per
+    newton of clamp force (eq. 1); ``lead`` l [m], ``gear_ratio`` i_g [-]."""
+    return lead / (2.0 * math.pi * gear_ratio)
+
+
 @dataclass(frozen=True)
 class ActuatorModel:
     """Everything the integrator needs, referred to the motor shaft (SI units)."""
@@ -74,7 +80,11 @@ class ActuatorModel:
     @property
     def transmission(self) -> float:
         """Nut travel per motor radian, ``l / (2 π i_g)`` [m/rad] (eq. 3-4); also T_L per newton."""
-        return self.lead / (2.0 * math.pi * self.gear_ratio)
+        return transmission(self.lead, self.gear_ratio)
+
+    def nut_travel(self, screw_angle: np.ndarray) -> np.ndarray:
+        """x = l θ_s / (2 π) [m] (eq. 4): nut travel for a screw angle θ_s [rad] from rest."""
+        return self.lead * np.asarray(screw_angle, float) / (2.0 * math.pi)
 
     def load_torque(self, force: np.ndarray) -> np.ndarray:
         """T_L = l F_cl / (2 π i_g) [N m] (eq. 1)."""
@@ -88,7 +98,7 @@ class ActuatorModel:
 def equivalent_inertia(unit: UnitParams) -> float:
     """004 eq. 2: ``J_me = J_m + J_g + J_s / i_g^2 + (l / (2 π i_g))^2 m_n`` [kg m^2]."""
     a = unit.require_actuator()
-    r = unit.ball_screw.lead / (2.0 * math.pi * a.gear_ratio)
+    r = transmission(unit.ball_screw.lead, a.gear_ratio)
     return a.motor.inertia + a.gear_inertia + a.screw_inertia / a.gear_ratio**2 + r * r * a.nut_mass
 
 

@@ -12,16 +12,16 @@ closed forms of 004 (eq. 10-17, 43), which only reproduce the paper's figures, l
 
 from __future__ import annotations
 
-import math
-
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.schema.calc import ActuatorResult
+from ebm_wear_monitor.twin.dynamics import transmission
 from ebm_wear_monitor.twin.friction import friction_law
 
 
 def load_ratio(unit: UnitParams) -> float:
-    """004 eq. 1: load torque per clamp force at the motor shaft, l / (2 π i_g) [N m/N]."""
-    return unit.ball_screw.lead / (2.0 * math.pi * unit.require_actuator().gear_ratio)
+    """004 eq. 1: load torque per clamp force at the motor shaft, l / (2 π i_g) [N m/N] of a unit file
+    (:func:`~ebm_wear_monitor.twin.dynamics.transmission`)."""
+    return transmission(unit.ball_screw.lead, unit.require_actuator().gear_ratio)
 
 
 def actuator_torques(unit: UnitParams, clamp_force: float) -> ActuatorResult:

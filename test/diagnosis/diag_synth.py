@@ -17,7 +17,8 @@ import math
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.recording import Recording
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.diagnosis.residuals import Augment
+from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 
 def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -27,8 +28,8 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             60 * tau - 180 * tau**2 + 120 * tau**3)
 
 
-def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0, seed: int = 0,
-          noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
+def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0,
+          seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0) -> Recording:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
@@ -45,7 +46,7 @@ def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: fl
     for _ in range(cycles):
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)
-        x_end = nom.x_ag + aug.clearance + F_target / nom.K_b
+        x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness
         seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_end),
                ("release", 0.8 * T_app, x_end, 0.0), ("idle", 0.1, 0.0, 0.0)]
         for _kind, dur, xa, xb in seg:
@@ -58,17 +59,20 @@ def synth(nom: Nominal, aug: Augment | None = None, *, cycles: int = 8, rate: fl
             t0 += dur
     t, x, xd, xdd = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
-    w_m = nom.i_g * k * xd
-    d = np.maximum(x - nom.x_ag - aug.clearance, 0.0)  # pad compression [m]
-    F_true = nom.K_b * d + aug.stiffness_quad * d**2  # 004 eq. 5 (+ k_2 d^2)
-    T_L = nom.lead * F_true / (2.0 * math.pi * nom.i_g)  # 004 eq. 1
+    w_m = nom.gear_ratio * k * xd
+    d = np.maximum(x - nom.clamp.clearance - aug.clearance, 0.0)  # pad compression [m]
+    F_true = nom.clamp.stiffness * d + aug.stiffness_quad * d**2  # 004 eq. 5 (+ k_2 d^2)
+    T_L = nom.lead * F_true / (2.0 * math.pi * nom.gear_ratio)  # 004 eq. 1
     speed = np.abs(w_m)
     # 004 eq. 9 sliding branch with the catalog's corrections (efficiency, Stribeck)
-    T_f = np.sign(w_m) * (nom.T_fc + aug.dT_fc + (nom.G + aug.dG) * F_true + (nom.B + aug.dB) * speed
+    law = nom.friction
+    T_f = np.sign(w_m) * (law.coulomb + aug.dT_fc + (law.load_coefficient + aug.dG) * F_true
+                          + (law.viscous + aug.dB) * speed
                           + T_L * (aug.eff_base + aug.eff_speed * speed)
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
     T_f = np.where(speed > 1e-3, T_f, 0.0)
-    current = (nom.J_me * nom.i_g * k * xdd + T_L + T_f) / (nom.K_T * (1.0 - drive_gain))  # 004 eq. 1, 7
+    current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f)  # 004 eq. 1, 7
+               / (nom.torque_constant * (1.0 - drive_gain)))
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
     sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}

@@ -18,12 +18,12 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import analyse, residual_model
 from ebm_wear_monitor.diagnosis.recording import Recording
-from ebm_wear_monitor.diagnosis.residuals import Nominal
 from ebm_wear_monitor.diagnosis.speed import local_slope
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.twin.dynamics import actuator_model
 
 UNIT = load_unit()
-NOM = Nominal.from_unit(UNIT)
+NOM = actuator_model(UNIT)
 
 
 def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():

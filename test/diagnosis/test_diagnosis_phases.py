@@ -9,13 +9,13 @@ sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.phases import segment
-from ebm_wear_monitor.diagnosis.residuals import Nominal
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.twin.dynamics import actuator_model
 
 
 def test_cycles_and_phase_order():
-    nom = Nominal.from_unit(load_unit())
+    nom = actuator_model(load_unit())
     rec = synth(nom, cycles=6, seed=2)
     seg = segment(rec)
     assert seg.n_cycles == 6
@@ -28,7 +28,7 @@ def test_cycles_and_phase_order():
 
 
 def test_contact_threshold_between_noise_and_force():
-    nom = Nominal.from_unit(load_unit())
+    nom = actuator_model(load_unit())
     rec = synth(nom, cycles=4, seed=3)
     seg = segment(rec)
     assert 5 * 30.0 / np.sqrt(5) < seg.force_on < 0.05 * rec.axial_force.max()

@@ -17,11 +17,12 @@ from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.ranking import Scorer, fit, improvement_p, rank, split_by_cycle
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.twin.dynamics import actuator_model
 
-NOM = Nominal.from_unit(load_unit())
+NOM = actuator_model(load_unit())
 
 #: effect -> (augmentation in the data, the parameters the fit must return)
 TRUTH = {

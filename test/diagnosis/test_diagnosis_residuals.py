@@ -11,23 +11,24 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
-from ebm_wear_monitor.diagnosis.residuals import Augment, Nominal
+from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.twin.dynamics import actuator_model
 
 QUIET = {"angle": 0.0, "velocity": 0.0, "axial_force": 0.0, "current": 0.0}
 
 
 @pytest.fixture(scope="module")
 def nom():
-    return Nominal.from_unit(load_unit())
+    return actuator_model(load_unit())
 
 
 def test_equivalent_inertia_is_004_eq2(nom):
     # 004 Table 1 with the unit's 5 mm lead: J_m + J_g + J_s / i_g^2 + (l / (2 pi i_g))^2 m_n
     expected = 2.0e-3 + 1.5e-5 + 1.64e-5 / 5.05**2 + (5e-3 / (2 * np.pi * 5.05)) ** 2 * 0.66
-    assert nom.J_me == pytest.approx(expected, rel=1e-12)
+    assert nom.inertia == pytest.approx(expected, rel=1e-12)
 
 
 def test_nominal_residual_vanishes_on_exact_data(nom):
@@ -35,8 +36,8 @@ def test_nominal_residual_vanishes_on_exact_data(nom):
     r = m.residuals()
     # discretisation of the angle-speed regression only (a quadratic over 5 samples at 500 Hz, worst where
     # a move starts): below 6 % of the Coulomb torque, typically below 0.5 %, and below 1 N of force
-    assert np.abs(r["torque"]).max() < 0.06 * nom.T_fc
-    assert np.median(np.abs(r["torque"])) < 0.005 * nom.T_fc
+    assert np.abs(r["torque"]).max() < 0.06 * nom.friction.coulomb
+    assert np.median(np.abs(r["torque"])) < 0.005 * nom.friction.coulomb
     released = m.conv.released[m.blocks.cycle]  # the first application starts with the recording: no rest
     assert np.abs(r["force"][released]).max() < 1.0
     assert not m.conv.released[0] and m.conv.released[1:].all()
@@ -53,7 +54,7 @@ def test_viscous_effect_appears_as_torque_proportional_to_speed(nom):
     # the re-anchored speed error is R_T dt / J_me at the screw: same sign, size from the block length
     sig = m.signal_residuals()
     dt = m.rec.t[b.stop] - m.rec.t[b.start]
-    assert np.allclose(sig["velocity"], r["torque"] * dt / nom.J_me / nom.i_g)
+    assert np.allclose(sig["velocity"], r["torque"] * dt / nom.inertia / nom.gear_ratio)
 
 
 def test_clearance_shows_in_force_channel_only_during_contact(nom):
@@ -61,8 +62,8 @@ def test_clearance_shows_in_force_channel_only_during_contact(nom):
     b, r = m.blocks, m.residuals()
     gen = (b.phase == Phase.FORCE_GENERATION) & (b.force > 2e3)
     # F_meas - K_b (x - x_ag) = -K_b dx once both laws are in contact
-    assert np.median(r["force"][gen]) == pytest.approx(-nom.K_b * 2e-5, rel=0.02)
-    assert np.median(np.abs(r["torque"])) < 0.005 * nom.T_fc
+    assert np.median(r["force"][gen]) == pytest.approx(-nom.clamp.stiffness * 2e-5, rel=0.02)
+    assert np.median(np.abs(r["torque"])) < 0.005 * nom.friction.coulomb
 
 
 def test_recording_from_signals_rejects_missing_topic():
