@@ -22,8 +22,8 @@ import pandas as pd
 
 from ebm_wear_monitor.bagio import BagReader, Recording, Signal, UnitData, read_ground_truth
 from ebm_wear_monitor.bagio.rates import check_rates
+from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS
 from ebm_wear_monitor.monitor import (
-    SIGNALS,
     Application,
     Batch,
     Feeder,
@@ -96,9 +96,9 @@ def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *
     new applications only. A topic sampled below the contract's 100 Hz is refused (InputError,
     :func:`~ebm_wear_monitor.bagio.rates.check_rates`), before any work.
     """
-    check_rates(data, SIGNALS)
+    check_rates(data, MONITOR_SIGNALS)
     run = UnitRun(data.unit, params, config, state)
-    batch = Batch({s: (sig.stamps_ns, sig.values) for s, sig in data.signals.items() if s in SIGNALS})
+    batch = Batch({s: (sig.stamps_ns, sig.values) for s, sig in data.signals.items() if s in MONITOR_SIGNALS})
     for signal, per in data.faults.items():
         for kind, n in per.items():
             batch.count(signal, kind, n)
@@ -145,7 +145,7 @@ def replay_bags(paths: Iterable, params: UnitParams, *, config: MonitorConfig | 
     ``total(n)`` is called once with the progress units of the whole read (from the storages' own
     indexes), ``progress(n)`` after every chunk; ``stamps``/``strict`` as for :class:`BagReader`.
     """
-    with BagReader(paths, signals=SIGNALS, stamps=stamps, strict=strict) as reader:
+    with BagReader(paths, signals=MONITOR_SIGNALS, stamps=stamps, strict=strict) as reader:
         if total is not None:
             total(reader.total)
         runs = {unit: UnitRun(unit, params, config) for unit in reader.units}
