@@ -3,7 +3,7 @@
 Public API (all lengths/times SI; signals named as in interface.md section 4)::
 
     from ebm_wear_monitor.bagio import (
-        write_unit_bag, BagWriter, Series, BagReader, read_bags, Recording, UnitData, Signal,
+        write_unit_bag, BagWriter, Series, BagReader, read_bags, BagRecordings,
         read_ground_truth, typestore)
     # topic names, signal names and the message type: ebm_wear_monitor.domain.signals
 
@@ -25,7 +25,8 @@ Public API (all lengths/times SI; signals named as in interface.md section 4)::
         reader.rejected   # {"<bag>: <topic>": reason} input topic names with a wrong type (skipped)
         reader.problems   # one line per damaged storage place / topic with lost messages
 
-    rec = read_bags(paths, progress=None, **reader_options) -> Recording   # the whole, in memory
+    rec = read_bags(paths, progress=None, **reader_options) -> BagRecordings   # the whole, in memory:
+        # one ebm_wear_monitor.domain.recording.Recording per unit
         rec.units["/embu"].signals["angle"].stamps_ns  # header stamps [ns], int64, receive order
         rec.units["/embu"].signals["angle"].stamps     # the same in s (float, for plots/diagnosis)
         rec.units["/embu"].signals["angle"].values     # data [rad]
@@ -38,7 +39,7 @@ Public API (all lengths/times SI; signals named as in interface.md section 4)::
     typestore() -> rosbags Typestore with ebm_wear_msgs/msg/* registered from msg_defs/msg/*.msg
 """
 
-from ebm_wear_monitor.bagio.reader import BagReader, Recording, Signal, UnitData, bag_message_count, read_bags
+from ebm_wear_monitor.bagio.reader import BagReader, BagRecordings, bag_message_count, read_bags
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE, read_ground_truth
 from ebm_wear_monitor.bagio.types import message_types, msg_dir, typestore
 from ebm_wear_monitor.bagio.writer import STORAGES, BagWriter, Series, write_unit_bag
@@ -47,11 +48,9 @@ __all__ = [
     "GROUND_TRUTH_FILE",
     "STORAGES",
     "BagReader",
+    "BagRecordings",
     "BagWriter",
-    "Recording",
     "Series",
-    "Signal",
-    "UnitData",
     "bag_message_count",
     "message_types",
     "msg_dir",

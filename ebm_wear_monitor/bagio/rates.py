@@ -16,7 +16,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from ebm_wear_monitor.bagio.reader import UnitData
+from ebm_wear_monitor.domain.recording import Recording
 from ebm_wear_monitor.domain.signals import INPUT_TOPICS
 from ebm_wear_monitor.errors import InputError
 
@@ -34,7 +34,7 @@ def sample_rate_hz(stamps: np.ndarray) -> float | None:
     return float(1.0 / np.median(steps)) if steps.size else None
 
 
-def check_rates(data: UnitData, signals: Iterable[str]) -> dict[str, float]:
+def check_rates(data: Recording, signals: Iterable[str]) -> dict[str, float]:
     """Rates [Hz] of ``signals`` of one unit; InputError (one line) if one is below :data:`MIN_RATE_HZ`.
 
     Signals with fewer than two samples are left to the caller (no rate to judge).

@@ -43,6 +43,7 @@ import numpy as np
 import yaml
 
 from ebm_wear_monitor.bagio.storage import Chunk, Records, Storage, open_storage
+from ebm_wear_monitor.domain.recording import Recording, Signal
 from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, split_topic
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.wire import Batch, Decoded, decode_uniform, stamp_ns
@@ -392,39 +393,12 @@ def bag_message_count(paths: Iterable[str | os.PathLike]) -> int:
 
 
 # ---------------------------------------------------------------------------------------------- whole
-@dataclass(frozen=True)
-class Signal:
-    """One input signal of one unit: header stamps [ns] (int64) and values [SI unit of the topic]."""
-
-    stamps_ns: np.ndarray
-    values: np.ndarray
-
-    @property
-    def stamps(self) -> np.ndarray:
-        """Header stamps [s] (float64: for plots and the diagnosis, not for the monitor core)."""
-        return self.stamps_ns * 1e-9
-
-
 @dataclass
-class UnitData:
-    """Everything read for one unit (namespace): its signals and the bags they came from (time order)."""
+class BagRecordings:
+    """The input topics of one or more bags, one :class:`~ebm_wear_monitor.domain.recording.Recording`
+    per unit; plus what was skipped and why."""
 
-    unit: str
-    signals: dict[str, Signal]
-    bags: list[Path]
-    faults: dict[str, dict[str, int]] = field(default_factory=dict)  # undecodable / lost per signal
-
-    @property
-    def messages(self) -> int:
-        """Number of input messages of this unit."""
-        return sum(len(s.stamps_ns) for s in self.signals.values())
-
-
-@dataclass
-class Recording:
-    """The input topics of one or more bags, per unit; plus what was skipped and why."""
-
-    units: dict[str, UnitData] = field(default_factory=dict)
+    units: dict[str, Recording] = field(default_factory=dict)
     #: "<bag>: <topic>" -> reason, for input topic names with a wrong type (messages skipped)
     rejected: dict[str, str] = field(default_factory=dict)
     problems: list[str] = field(default_factory=list)
@@ -436,7 +410,7 @@ class Recording:
 
 
 def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], object] | None = None,
-              failed: dict[str, str] | None = None, **options: object) -> Recording:
+              failed: dict[str, str] | None = None, **options: object) -> BagRecordings:
     """Read the input topics of ``paths`` whole, per unit (for the diagnosis, the player and tests).
 
     ``options`` are those of :class:`BagReader` (``signals``, ``stamps``, ``strict``). The replay
@@ -456,9 +430,9 @@ def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], obje
                     for kind, n in per.items():
                         mine = faults[unit].setdefault(signal, {})
                         mine[kind] = mine.get(kind, 0) + n
-        recording = Recording(rejected=dict(reader.rejected), problems=list(reader.problems))
+        recording = BagRecordings(rejected=dict(reader.rejected), problems=list(reader.problems))
         for unit, bags in reader.units.items():
             signals = {s: Signal(np.concatenate([a[0] for a in p]), np.concatenate([a[1] for a in p]))
                        for s, p in sorted(parts[unit].items())}
-            recording.units[unit] = UnitData(unit, signals, bags, faults[unit])
+            recording.units[unit] = Recording(unit, signals, bags, faults[unit])
     return recording

@@ -2,7 +2,7 @@
 
 Public API::
 
-    from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_signals, Recording
+    from ebm_wear_monitor.diagnosis import diagnose_recording, recording_from_signals, Resampled
     result = diagnose_recording(recording, unit)   # schema.diagnose.DiagnosisResult, interface.md section 4
     result.verdict, result.ranking[0].magnitude, result.to_json_dict()
 
@@ -13,6 +13,6 @@ torque and force residuals), :mod:`.catalog` (effects), :mod:`.ranking`
 """
 
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
-from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
+from ebm_wear_monitor.diagnosis.recording import Resampled, recording_from_signals
 
-__all__ = ["Recording", "diagnose_recording", "recording_from_signals"]
+__all__ = ["Resampled", "diagnose_recording", "recording_from_signals"]

@@ -16,7 +16,8 @@ import numpy as np
 
 from ebm_wear_monitor.bagio import read_bags
 from ebm_wear_monitor.bagio.rates import check_rates
-from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
+from ebm_wear_monitor.diagnosis.recording import Resampled, recording_from_signals
+from ebm_wear_monitor.domain.recording import Recording
 from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorConfig
@@ -27,9 +28,9 @@ from ebm_wear_monitor.monitor.alignment import absurd_limits
 class UnitRecording:
     """One unit's screened recording, what was dropped from it, and its raw data (for ``--life``)."""
 
-    recording: Recording
+    recording: Resampled
     faults: dict[str, dict[str, int]]  # {signal: {kind: samples dropped}}
-    data: object  # the bag reader's UnitData
+    data: Recording  # the unit's recording as read (int64 ns stamps per signal)
 
     @property
     def fault_totals(self) -> dict[str, int]:
@@ -65,6 +66,6 @@ def recordings_from_bags(paths: Sequence[str | Path], progress: Callable[[int], 
     out = {}
     for name, ud in sorted(data.units.items()):
         check_rates(ud, SIGNALS)
-        signals, faults = screen({k: (s.stamps, s.values) for k, s in ud.signals.items()}, limits)
+        signals, faults = screen(ud.seconds(), limits)
         out[name] = UnitRecording(recording_from_signals(signals, unit=name), faults, ud)
     return out

@@ -59,7 +59,7 @@ import numpy as np
 
 from ebm_wear_monitor.diagnosis.noise import MAD_TO_SIGMA, signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
 from ebm_wear_monitor.domain.phases import Phase, run_ids
 from ebm_wear_monitor.domain.signals import SIGNALS
@@ -131,7 +131,7 @@ def _fill(values: np.ndarray) -> np.ndarray:
     return np.where(ok, values, values[nearest])
 
 
-def _velocity_convention(rec: Recording, speed: np.ndarray, moving: np.ndarray) -> dict[str, Estimate]:
+def _velocity_convention(rec: Resampled, speed: np.ndarray, moving: np.ndarray) -> dict[str, Estimate]:
     """Lag d [s] and gain g [-] of the recorded velocity against the angle speed, v_rec(t) = g w(t - d)."""
     t = rec.t
     if moving.sum() < 20:
@@ -160,7 +160,7 @@ def _velocity_convention(rec: Recording, speed: np.ndarray, moving: np.ndarray) 
             "velocity_gain": Estimate(g, float(np.sqrt(var_r / max(np.dot(w, w), 1e-300))), "-")}
 
 
-def estimate_conventions(rec: Recording, seg: Segmentation, window_s: float = WINDOW_S) -> Conventions:
+def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WINDOW_S) -> Conventions:
     """Estimate every convention of the module docstring from ``rec`` and its phases ``seg``."""
     speed, factor = angle_speed(rec, phase_runs(seg), window_s)
     sigma_w = signal_noise(speed)

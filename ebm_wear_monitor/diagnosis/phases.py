@@ -51,7 +51,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from ebm_wear_monitor.diagnosis.noise import signal_noise
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import angle_speed
 from ebm_wear_monitor.domain.phases import Phase, run_starts
 
@@ -77,7 +77,7 @@ def _runs(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return starts, np.diff(np.append(starts, code.size))
 
 
-def segment(rec: Recording, speed: np.ndarray | None = None, smooth_s: float = 0.01,
+def segment(rec: Resampled, speed: np.ndarray | None = None, smooth_s: float = 0.01,
             min_run_s: float = 0.02) -> Segmentation:
     """Phase code and cycle index per sample by the rule of the module docstring.
 

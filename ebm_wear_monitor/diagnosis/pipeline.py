@@ -38,7 +38,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     rank,
     separating_experiment,
 )
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.domain.signals import SIGNALS
@@ -56,13 +56,13 @@ def shrink(gap_before: float, gap_after: float) -> float:
     return float(1.0 - gap_after / gap_before) if gap_before > 0.0 else 0.0
 
 
-def residual_model(rec: Recording, nominal: ActuatorModel, block_s: float = 0.02) -> ResidualModel:
+def residual_model(rec: Resampled, nominal: ActuatorModel, block_s: float = 0.02) -> ResidualModel:
     """Steps 1-3 of the module docstring: phases, conventions, and the residual model of ``rec``."""
     seg = segment(rec)
     return ResidualModel(rec, seg, estimate_conventions(rec, seg), nominal, block_s=block_s)
 
 
-def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Scorer, Ranking]:
+def analyse(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> tuple[Scorer, Ranking]:
     """Segment, estimate conventions, build residuals and rank the catalog (:func:`diagnose_recording`)."""
     nominal = actuator_model(unit)
     model = residual_model(rec, nominal, block_s)
@@ -77,7 +77,7 @@ def analyse(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
     return sc, rank(sc, catalog)
 
 
-def diagnose_recording(rec: Recording, unit: UnitParams, block_s: float = 0.02) -> DiagnosisResult:
+def diagnose_recording(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> DiagnosisResult:
     """Diagnosis of one unit's recording (interface.md section 4, with extra keys; ``.to_json_dict()``)."""
     return diagnose_with_state(rec, unit, block_s)[0]
 
@@ -127,7 +127,7 @@ def nuisance_report(sc: Scorer) -> dict[str, Estimate]:
     return out
 
 
-def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
+def diagnose_with_state(rec: Resampled, unit: UnitParams, block_s: float = 0.02
                         ) -> tuple[DiagnosisResult, Scorer, Ranking]:
     """:func:`diagnose_recording` plus the residual model and ranking behind it (for the report).
 
@@ -138,7 +138,7 @@ def diagnose_with_state(rec: Recording, unit: UnitParams, block_s: float = 0.02
         return _diagnose(rec, unit, block_s)
 
 
-def _diagnose(rec: Recording, unit: UnitParams, block_s: float) -> tuple[DiagnosisResult, Scorer, Ranking]:
+def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[DiagnosisResult, Scorer, Ranking]:
     sc, ranking = analyse(rec, unit, block_s)
     top = ranking.top
     explained = ranking.explained

@@ -1,4 +1,4 @@
-"""One unit's recording on a common time base: the four input signals of interface.md section 2.
+"""One unit's recording resampled onto a common time base: the four input signals of interface.md section 2.
 
 The diagnosis works on screw-side signals as recorded (``screw/angle`` [rad],
 ``screw/velocity`` [rad/s], ``axial_force`` [N], ``motor/current`` [A]) and refers
@@ -6,10 +6,13 @@ them to the motor shaft where 004 eq. 1 needs it (004 eq. 3: theta_m = i_g theta
 
 Topics need not share a rate or stamps (interface.md section 2): angle and velocity
 at 2 kHz, force at 1 kHz and current at 500 Hz, each with its own phase and jitter,
-is a normal recording.  :func:`recording_from_signals` sorts and de-duplicates each
+is a normal recording.  The recording as read keeps each signal's own int64 ns stamps
+(:class:`ebm_wear_monitor.domain.recording.Recording`); the diagnosis takes its float-seconds
+view (:meth:`~ebm_wear_monitor.domain.recording.Recording.seconds`, screened by :mod:`.bags`),
+and :func:`recording_from_signals` sorts and de-duplicates each
 signal and interpolates every one linearly onto the stamps of ``screw/angle``, the
 motion itself, within the span common to all.  The native sample interval of each
-signal is kept (:attr:`Recording.native_dt`): it bounds the timing nuisances of
+signal is kept (:attr:`Resampled.native_dt`): it bounds the timing nuisances of
 :mod:`.residuals` (a signal sampled every h seconds is ambiguous in its timing by
 up to h).  Time is counted from the first common stamp (float seconds keep
 sub-microsecond resolution over days that way).
@@ -27,8 +30,8 @@ from ebm_wear_monitor.errors import InputError
 
 
 @dataclass(frozen=True)
-class Recording:
-    """Samples of one unit on one time base (SI units, screw side as in interface.md section 2)."""
+class Resampled:
+    """Samples of one unit resampled on one time base (SI units, screw side as in interface.md section 2)."""
 
     t: np.ndarray  # sample time [s], strictly increasing
     angle: np.ndarray  # screw angle, unwrapped, apply direction positive [rad]
@@ -74,8 +77,8 @@ def _clean(stamps: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
-                           unit: str = DEFAULT_NAMESPACE) -> Recording:
-    """Build a :class:`Recording` from ``{signal: (stamps [s], values)}`` of one namespace.
+                           unit: str = DEFAULT_NAMESPACE) -> Resampled:
+    """Build a :class:`Resampled` from ``{signal: (stamps [s], values)}`` of one namespace.
 
     Signal names are those of interface.md section 4 (``angle``, ``velocity``, ``axial_force``,
     ``current``; topics in :data:`~ebm_wear_monitor.domain.signals.INPUT_TOPICS`); all four are needed
@@ -101,4 +104,4 @@ def recording_from_signals(signals: Mapping[str, tuple[np.ndarray, np.ndarray]],
         raise InputError(f"{unit}: the topics share no common time span")
     values = {name: np.interp(base, *series[name]) for name in SIGNALS}
     native = {name: float(np.median(np.diff(series[name][0]))) for name in SIGNALS}
-    return Recording(base - base[0], unit=unit, native_dt=native, **values)
+    return Resampled(base - base[0], unit=unit, native_dt=native, **values)

@@ -37,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams
 from ebm_wear_monitor.twin import actuator_model
@@ -55,7 +55,7 @@ def simulate_reference(unit: UnitParams, demands: tuple[float, ...], *, cycles: 
                        apply_s: float = 0.5, release_s: float = 0.4, rate_hz: float = 1000.0,
                        current_sampling: str = "instant", effects: dict[str, float] | None = None,
                        noise: SensorNoise | None = None, seed: int = 0, label: str = "/reference"
-                       ) -> Recording:
+                       ) -> Resampled:
     """Recording of ``cycles`` brake applications (demands [N] cycled), module docstring.
 
     Each application: ``apply_s`` seconds applying towards its demand, then ``release_s``
@@ -102,7 +102,7 @@ def simulate_reference(unit: UnitParams, demands: tuple[float, ...], *, cycles: 
     rng = np.random.default_rng(seed)
     size = theta.size
     t = np.arange(size) * dt
-    return Recording(
+    return Resampled(
         t,
         theta / m.gear_ratio + rng.normal(0.0, noise.angle, size),
         w / m.gear_ratio + rng.normal(0.0, noise.velocity, size),

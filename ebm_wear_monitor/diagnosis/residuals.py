@@ -88,7 +88,7 @@ from scipy.signal import lfilter
 from ebm_wear_monitor.diagnosis.conventions import Conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S
 from ebm_wear_monitor.domain.phases import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
@@ -237,7 +237,7 @@ class ResidualModel:
     blocks once; :meth:`residuals` is then a few vectorised passes over the samples.
     """
 
-    def __init__(self, rec: Recording, seg: Segmentation, conv: Conventions, nominal: ActuatorModel,
+    def __init__(self, rec: Resampled, seg: Segmentation, conv: Conventions, nominal: ActuatorModel,
                  block_s: float = 0.02) -> None:
         self.rec, self.seg, self.conv, self.nominal = rec, seg, conv, nominal
         self.w_m = nominal.gear_ratio * conv.speed  # motor speed, 004 eq. 3 [rad/s]

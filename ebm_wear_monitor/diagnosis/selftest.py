@@ -53,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.params import UnitParams, load_unit
 from ebm_wear_monitor.schema.diagnose import CaseResult, Confusion, SelftestResult, SourceFalsePositives
@@ -150,7 +150,7 @@ def case_set(quick: bool = False) -> list[Case]:
     return cases
 
 
-def simulate_case(unit: UnitParams, case: Case) -> Recording:
+def simulate_case(unit: UnitParams, case: Case) -> Resampled:
     """The case's recording from its source (module docstring)."""
     from ebm_wear_monitor.twin import simulate_unit
 
@@ -163,7 +163,7 @@ def simulate_case(unit: UnitParams, case: Case) -> Recording:
     sim = simulate_unit(unit, CYCLES, demands=DEMANDS[case.demands], effects=case.effects, seed=case.seed,
                         rate_hz=case.rate_hz * over, wear=False, hold_s=HOLDS[case.demands], rest_s=0.2)
     s = slice(None, None, over)
-    return Recording(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s],
+    return Resampled(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s],
                      unit=case.label)
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 
 WINDOW_S = 0.005  # length of the speed regression window [s] (at least 5 samples)
 
@@ -62,7 +62,7 @@ def local_slope(t: np.ndarray, y: np.ndarray, half: int, group: np.ndarray | Non
     return slope / scale, factor / scale**2
 
 
-def angle_speed(rec: Recording, group: np.ndarray | None = None, window_s: float = WINDOW_S
+def angle_speed(rec: Resampled, group: np.ndarray | None = None, window_s: float = WINDOW_S
                 ) -> tuple[np.ndarray, np.ndarray]:
     """Screw speed [rad/s] from the angle by :func:`local_slope` and its variance factor [1/s^2]."""
     half = max(2, round(0.5 * window_s / rec.dt))

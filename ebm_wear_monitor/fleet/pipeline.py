@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from ebm_wear_monitor import __version__
-from ebm_wear_monitor.bagio import Recording, read_bags
+from ebm_wear_monitor.bagio import BagRecordings, read_bags
 from ebm_wear_monitor.fleet.discover import BagFile, content_hash, discover
 from ebm_wear_monitor.fleet.manifest import Manifest
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorState
@@ -75,7 +75,7 @@ def entry_name(folder: str, namespace: str, namespaces: int) -> str:
     return folder if namespaces == 1 else f"{folder}{namespace}"
 
 
-def _continues(recording: Recording, states: dict[str, dict]) -> bool:
+def _continues(recording: BagRecordings, states: dict[str, dict]) -> bool:
     """True if ``recording`` holds the same namespaces as ``states`` and starts after each state's end."""
     if set(recording.units) != set(states):
         return False

@@ -20,8 +20,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ebm_wear_monitor.bagio import BagReader, Recording, Signal, UnitData, read_ground_truth
+from ebm_wear_monitor.bagio import BagReader, BagRecordings, read_ground_truth
 from ebm_wear_monitor.bagio.rates import check_rates
+from ebm_wear_monitor.domain.recording import Recording, Signal
 from ebm_wear_monitor.domain.signals import MONITOR_SIGNALS
 from ebm_wear_monitor.monitor import (
     Application,
@@ -73,7 +74,7 @@ class UnitRun:
         fresh = {s: Signal(*arrays) for s, arrays in batch.signals.items()
                  if s not in self._rated and arrays[0].size >= 2}
         if fresh:
-            check_rates(UnitData(self.unit, fresh, []), fresh)
+            check_rates(Recording(self.unit, fresh), fresh)
             self._rated |= set(fresh)
         self._collect(self.feeder.feed(batch))
 
@@ -87,7 +88,7 @@ class UnitRun:
                           state=core.state.to_dict())
 
 
-def replay_unit(data: UnitData, params: UnitParams, truth: dict | None = None, *,
+def replay_unit(data: Recording, params: UnitParams, truth: dict | None = None, *,
                 config: MonitorConfig | None = None, state: MonitorState | None = None) -> UnitReplay:
     """Run the monitor core over one unit's signals read whole (:func:`bagio.read_bags`).
 
@@ -120,14 +121,14 @@ def judge(applications: pd.DataFrame, truth: dict | None) -> Prognostics | None:
                                                       rul_p05=p05, rul_p95=p95))
 
 
-def truth_by_namespace(units: dict[str, list[Path]] | Recording) -> dict[str, dict]:
-    """Ground-truth entries per unit from the sidecars of its bags (``{unit: bags}`` or a Recording).
+def truth_by_namespace(units: dict[str, list[Path]] | BagRecordings) -> dict[str, dict]:
+    """Ground-truth entries per unit from the sidecars of its bags (``{unit: bags}`` or BagRecordings).
 
     The latest bag's entry is taken, with ``cycles_at_start`` of the *first* bag:
     the replay counts applications from the start of the first bag, so
     application ``k`` of the replay is ``cycles_at_start + k`` since new.
     """
-    if isinstance(units, Recording):
+    if isinstance(units, BagRecordings):
         units = {unit: data.bags for unit, data in units.units.items()}
     truths: dict[str, dict] = {}
     for unit, bags in units.items():

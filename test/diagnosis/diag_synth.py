@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
@@ -31,7 +31,7 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0,
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
-          drive_gain: float = 0.0) -> Recording:
+          drive_gain: float = 0.0) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -76,4 +76,4 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
     sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
-    return Recording(t, **sig)
+    return Resampled(t, **sig)

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import analyse, residual_model
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import local_slope
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
@@ -47,19 +47,19 @@ def _lagged(x: np.ndarray, tau: float, dt: float) -> np.ndarray:
     return lfilter([1 - a], [1, -a], x, zi=[a * x[0]])[0]
 
 
-def _variants(rec: Recording) -> dict[str, Recording]:
+def _variants(rec: Resampled) -> dict[str, Resampled]:
     dt = rec.dt
     rng = np.random.default_rng(5)
     cycles = residual_model(rec, NOM).seg.cycle
     return {
-        "encoder zero": Recording(rec.t, rec.angle - 812.4, rec.velocity, rec.axial_force, rec.current),
-        "force tare": Recording(rec.t, rec.angle, rec.velocity, rec.axial_force - 250.0, rec.current),
-        "force lag 1.5 ms": Recording(rec.t, rec.angle, rec.velocity, _lagged(rec.axial_force, 1.5e-3, dt),
+        "encoder zero": Resampled(rec.t, rec.angle - 812.4, rec.velocity, rec.axial_force, rec.current),
+        "force tare": Resampled(rec.t, rec.angle, rec.velocity, rec.axial_force - 250.0, rec.current),
+        "force lag 1.5 ms": Resampled(rec.t, rec.angle, rec.velocity, _lagged(rec.axial_force, 1.5e-3, dt),
                                       rec.current),
-        "velocity lag 4 ms": Recording(rec.t, rec.angle, np.interp(rec.t - 4e-3, rec.t, rec.velocity),
+        "velocity lag 4 ms": Resampled(rec.t, rec.angle, np.interp(rec.t - 4e-3, rec.t, rec.velocity),
                                        rec.axial_force, rec.current),
-        "current offset": Recording(rec.t, rec.angle, rec.velocity, rec.axial_force, rec.current + 0.04),
-        "rest angle per application": Recording(
+        "current offset": Resampled(rec.t, rec.angle, rec.velocity, rec.axial_force, rec.current + 0.04),
+        "rest angle per application": Resampled(
             rec.t, rec.angle + rng.normal(0.0, 3e-3, cycles.max() + 1)[cycles], rec.velocity,
             rec.axial_force, rec.current),
     }

@@ -11,7 +11,7 @@ mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).
 import pytest
 
 from ebm_wear_monitor.diagnosis.pipeline import analyse
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
@@ -25,10 +25,10 @@ def unit():
     return load_unit()
 
 
-def twin_at_rate(unit, rate_hz: float, seed: int) -> Recording:
+def twin_at_rate(unit, rate_hz: float, seed: int) -> Resampled:
     sim = simulate_unit(unit, 12, demands=DEMANDS, seed=seed, rate_hz=rate_hz, wear=False, hold_s=0.3,
                         rest_s=0.2)
-    return Recording(sim.t, sim.angle, sim.velocity, sim.axial_force, sim.current)
+    return Resampled(sim.t, sim.angle, sim.velocity, sim.axial_force, sim.current)
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ the calculation) for actuator 6, the one the authors re-assembled.
 import pytest
 
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
-from ebm_wear_monitor.diagnosis.recording import Recording
+from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.twin import simulate_unit
 from ebm_wear_monitor.validation.papers.paper004 import TABLE3, TABLE4, paper_unit
 
@@ -27,7 +27,7 @@ def results():
         sim = simulate_unit(paper_unit(friction=row), 16, demands=(8e3, 14e3, 20e3, 26e3), seed=100 + i,
                             rate_hz=500.0 * OVERSAMPLE, wear=False, hold_s=(0.2, 0.4), rest_s=0.2)
         s = slice(None, None, OVERSAMPLE)
-        rec = Recording(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s])
+        rec = Resampled(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s])
         out.append(diagnose_recording(rec, nominal))
     return out
 

@@ -10,7 +10,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
-from ebm_wear_monitor.diagnosis.recording import Recording, recording_from_signals
+from ebm_wear_monitor.diagnosis.recording import Resampled, recording_from_signals
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
@@ -86,7 +86,7 @@ def test_recording_from_signals_sorts_dedups_and_keeps_native_intervals():
 
 def test_force_channel_ignores_encoder_zero_and_tare(nom):
     rec = synth(nom, Augment(clearance=2e-5), cycles=4, seed=1)
-    moved = Recording(rec.t, rec.angle + 57.3, rec.velocity, rec.axial_force + 321.0, rec.current)
+    moved = Resampled(rec.t, rec.angle + 57.3, rec.velocity, rec.axial_force + 321.0, rec.current)
     r0 = residual_model(rec, nom).residuals()["force"]
     r1 = residual_model(moved, nom).residuals()["force"]
     # the tare is estimated per application from its idle readings: equal to well within the noise
