@@ -61,7 +61,8 @@ from ebm_wear_monitor.diagnosis.noise import MAD_TO_SIGMA, signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, angle_speed
-from ebm_wear_monitor.domain.phases import Phase, run_ids
+from ebm_wear_monitor.domain.phases import Phase
+from ebm_wear_monitor.domain.segmentation import run_ids
 from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.schema.diagnose import Estimate
 
@@ -69,11 +70,6 @@ REST_WINDOW_S = 0.02  # idle time before an application over which its rest angl
 SETTLE_S = 0.01  # idle time after a release left out of the tare [s]
 TARE_SPAN = 3  # applications each side over which the tare is taken [-]
 VELOCITY_LAG_RANGE_S = 0.02  # the recorded velocity's lag is searched within +-this [s]
-
-
-def phase_runs(seg: Segmentation) -> np.ndarray:
-    """Id of the run of equal (cycle, phase) each sample belongs to."""
-    return run_ids(seg.phase, seg.cycle)
 
 
 def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
@@ -162,7 +158,7 @@ def _velocity_convention(rec: Resampled, speed: np.ndarray, moving: np.ndarray) 
 
 def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WINDOW_S) -> Conventions:
     """Estimate every convention of the module docstring from ``rec`` and its phases ``seg``."""
-    speed, factor = angle_speed(rec, phase_runs(seg), window_s)
+    speed, factor = angle_speed(rec, run_ids(seg.phase, seg.cycle), window_s)
     sigma_w = signal_noise(speed)
     moving = np.abs(speed) > 5.0 * max(sigma_w, 1e-12)
     d2 = np.diff(rec.angle, 2)[moving[1:-1]]

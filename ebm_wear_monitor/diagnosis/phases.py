@@ -34,13 +34,13 @@ touching before the next application is not (:mod:`.conventions` flags that next
 application as not released).  The idle samples before a
 cycle give its released rest angle and force tare (:mod:`.conventions`).
 
-Why not the monitor's segmentation (:mod:`ebm_wear_monitor.monitor.segmentation`)?
-It is a causal state machine built for the online wear integral: its
-:class:`~ebm_wear_monitor.monitor.segmentation.Segment` keeps labels for the
-*moving* samples only (memory bounded by moving time), so force-maintenance and
-idle samples carry no label, and a stretch that starts at the start of the data
-or after a gap is ``motion`` without phases.  The diagnosis needs a label for
-every sample, the first cycle of a recording included.
+This is the *offline* mode of the project's segmentation (:mod:`ebm_wear_monitor.domain.segmentation`:
+the labels, runs and cycle index it shares with the monitor's causal mode). Why not the monitor's
+state machine (:mod:`ebm_wear_monitor.monitor.segmentation`; its ``label_samples`` labels every
+sample)? It runs on the recorded velocity with thresholds resolved from the unit
+parameters, where the diagnosis may assume nothing about the recording (the lag of the drive's
+velocity estimate, a force tare); and, causal, it calls data that start inside an application
+``motion`` without phases, where the diagnosis needs the phases of the first cycle too.
 """
 
 from __future__ import annotations
@@ -53,28 +53,17 @@ from scipy.ndimage import uniform_filter1d
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import angle_speed
-from ebm_wear_monitor.domain.phases import Phase, run_starts
+from ebm_wear_monitor.domain.phases import Phase
+from ebm_wear_monitor.domain.segmentation import Labels, run_starts, runs, starts_up_to
 
 
 @dataclass(frozen=True)
-class Segmentation:
-    """Per-sample :class:`~ebm_wear_monitor.domain.phases.Phase` code and brake-cycle index (0-based)."""
+class Segmentation(Labels):
+    """Phase code and brake-cycle index per sample (domain ``Labels``) and the thresholds that gave them."""
 
-    phase: np.ndarray  # int8 per sample
-    cycle: np.ndarray  # int32 per sample
     eps_velocity: float  # rest band of the screw velocity [rad/s]
     force_on: float  # contact threshold of the axial force reading [N] (includes the no-contact reading)
     force_rise: float = 0.0  # the same threshold above the no-contact reading F_0 [N]
-
-    @property
-    def n_cycles(self) -> int:
-        return int(self.cycle.max()) + 1 if self.cycle.size else 0
-
-
-def _runs(code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Start indices and lengths of runs of equal values."""
-    starts = run_starts(code)
-    return starts, np.diff(np.append(starts, code.size))
 
 
 def segment(rec: Resampled, speed: np.ndarray | None = None, smooth_s: float = 0.01,
@@ -100,7 +89,7 @@ def segment(rec: Resampled, speed: np.ndarray | None = None, smooth_s: float = 0
 
     # merge short runs into the run before them
     min_run = max(1, round(min_run_s / rec.dt))
-    starts, lengths = _runs(phase)
+    starts, lengths = runs(phase)
     codes = phase[starts].copy()
     for i in range(1, codes.size):
         if lengths[i] < min_run:
@@ -109,14 +98,14 @@ def segment(rec: Resampled, speed: np.ndarray | None = None, smooth_s: float = 0
 
     # a forward move that stops short of contact (the ECU returning from an overshoot, repositioning)
     # is no clearance elimination: it belongs to the idle time between applications
-    starts, lengths = _runs(phase)
+    starts, lengths = runs(phase)
     codes = phase[starts].copy()
     follows = np.append(codes[1:], IDLE)
     codes[(codes == CLEARANCE) & (follows != GENERATION)] = IDLE
     phase = np.repeat(codes, lengths)
 
     # cycle boundaries: a forward run after a release that took the force below half its peak
-    starts, lengths = _runs(phase)
+    starts = run_starts(phase)
     codes = phase[starts]
     load = f - f0
     run_max = np.maximum.reduceat(load, starts)
@@ -130,5 +119,5 @@ def segment(rec: Resampled, speed: np.ndarray | None = None, smooth_s: float = 0
         peak = max(peak, float(run_max[i]))
         if c == RELEASE and run_min[i] < max(0.5 * peak, f_on):
             released = True
-    cycle = np.repeat(np.cumsum(new_cycle), lengths).astype(np.int32)
+    cycle = starts_up_to(starts[new_cycle], phase.size).astype(np.int32)
     return Segmentation(phase, cycle, float(eps_v), float(f0 + f_on), float(f_on))

@@ -90,7 +90,7 @@ from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S
-from ebm_wear_monitor.domain.phases import run_ids, run_starts
+from ebm_wear_monitor.domain.segmentation import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
 from ebm_wear_monitor.twin.dynamics import ActuatorModel

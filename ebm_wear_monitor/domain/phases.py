@@ -19,10 +19,6 @@ from __future__ import annotations
 
 from enum import IntEnum
 
-import numpy as np
-
-from ebm_wear_monitor.arrays import IntArray
-
 
 class Phase(IntEnum):
     """Phase code of a sample: the four phases of a brake application, then ``idle``."""
@@ -46,16 +42,3 @@ PHASES: tuple[str, ...] = tuple(p.label for p in APPLICATION_PHASES)
 #: every phase name in code order, ``idle`` last (the twin's truth: ``phase_names``)
 PHASE_NAMES: tuple[str, ...] = tuple(p.label for p in Phase)
 
-
-def run_starts(code: IntArray) -> IntArray:
-    """Indices at which a run of equal values starts in ``code`` (0 first; empty for empty input)."""
-    code = np.asarray(code)
-    if code.size == 0:
-        return np.empty(0, np.intp)
-    return np.flatnonzero(np.concatenate(([True], code[1:] != code[:-1])))
-
-
-def run_ids(phase: IntArray, cycle: IntArray) -> IntArray:
-    """Id (0, 1, ...) of the run of equal (cycle, phase) each sample belongs to (int64 per sample)."""
-    key = np.asarray(cycle).astype(np.int64) * len(Phase) + np.asarray(phase).astype(np.int64)
-    return np.cumsum(np.concatenate(([0], (key[1:] != key[:-1]).astype(np.int64))))

@@ -74,7 +74,10 @@ rest angle from the idle samples, stick branch of 004 eq. 9 from maintenance)
 call :func:`label_samples`: the same state machine and thresholds run once over
 the whole recording, and the stretches it consumes (every sample of every
 segment, moving or not) are recorded as index spans; samples outside any
-segment are ``REST``. The monitor's own path does not record them.
+segment are ``idle``. The monitor's own path does not record them. This module
+is the *causal* mode of the project's segmentation, with the labels and run
+arithmetic of :mod:`ebm_wear_monitor.domain.segmentation` (which says why the
+diagnosis' offline mode keeps its own rules).
 """
 
 from __future__ import annotations
@@ -84,7 +87,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ebm_wear_monitor.arrays import FloatArray
 from ebm_wear_monitor.domain.phases import APPLICATION_PHASES, Phase
+from ebm_wear_monitor.domain.segmentation import Labels, starts_up_to
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor.alignment import AlignedBatch, stamps_to_ns
 from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
@@ -436,13 +441,16 @@ class Segmenter:
 
 
 @dataclass(frozen=True)
-class SampleLabels:
-    """Phase and application of every sample of a recording (:func:`label_samples`)."""
+class SampleLabels(Labels):
+    """:class:`~ebm_wear_monitor.domain.segmentation.Labels` of every sample (:func:`label_samples`).
 
-    phase: np.ndarray  # int8 per sample: REST (-1) or the Phase of its state (MOTION: idle)
-    cycle: np.ndarray  # int32 per sample: 0-based index of its segment; rest belongs to the segment before
+    ``phase``: the Phase of the state that consumed the sample; IDLE for rest and for ``motion`` outside
+    an application. ``cycle``: 0-based index of its segment (of any kind); rest belongs to the segment
+    before it, the rest before the first segment to segment 0.
+    """
+
     kinds: tuple[str, ...]  # Segment.kind of each segment, in order
-    force_baseline: np.ndarray  # rest level b of each segment [N]
+    force_baseline: FloatArray  # rest level b of each segment [N]
 
     @property
     def n_segments(self) -> int:
@@ -485,10 +493,10 @@ def label_samples(t: np.ndarray, angle: np.ndarray, velocity: np.ndarray, force:
     seg = _LabellingSegmenter(config, thresholds, force_baseline)
     angle_, velocity_, force_ = arrays
     segments = seg.feed(AlignedBatch(t_ns, angle_, velocity_, force_, gap), final=True)
-    phase = np.full(n, REST, np.int8)
+    phase = np.full(n, Phase.IDLE, np.int8)
     for a, b, label in seg.spans:  # one entry per phase stretch, not per sample
         phase[a:b] = label
     starts = np.searchsorted(t_ns, [s.start_ns for s in segments])
-    cycle = np.maximum(np.searchsorted(starts, np.arange(n), side="right") - 1, 0).astype(np.int32)
+    cycle = starts_up_to(starts[1:], n).astype(np.int32)
     return SampleLabels(phase, cycle, tuple(s.kind for s in segments),
                         np.array([s.force_baseline for s in segments], dtype=float))

@@ -1,14 +1,11 @@
-"""The phase vocabulary (domain.phases): interface.md's names, the codes on disk, run helpers."""
+"""The phase vocabulary (domain.phases): interface.md's names, the codes on disk."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
-import numpy as np
-import pytest
-
-from ebm_wear_monitor.domain.phases import APPLICATION_PHASES, PHASE_NAMES, PHASES, Phase, run_ids, run_starts
+from ebm_wear_monitor.domain.phases import APPLICATION_PHASES, PHASE_NAMES, PHASES, Phase
 
 REPO = Path(__file__).resolve().parents[2]
 SPEC = REPO.parent.parent / "shared" / "spec" / "interface.md"
@@ -33,23 +30,3 @@ def test_codes_are_those_the_committed_bags_ground_truth_uses():
     assert tuple(unit["phase_names"]) == PHASE_NAMES
     assert [int(Phase[n.upper()]) for n in unit["phase_names"]] == list(range(len(Phase)))
 
-
-def _brute_runs(phase, cycle):
-    ids, last = [], None
-    for key in zip(cycle, phase, strict=True):
-        ids.append(0 if last is None else ids[-1] + (key != last))
-        last = key
-    return ids
-
-
-@pytest.mark.parametrize("seed", range(5))
-def test_run_ids_and_starts_against_a_loop(seed):
-    rng = np.random.default_rng(seed)
-    n = 200
-    phase = rng.choice(np.array(list(Phase), np.int8), n, p=[0.1, 0.1, 0.1, 0.1, 0.6])
-    phase = np.repeat(phase, rng.integers(1, 4, n))[:n]
-    cycle = np.cumsum(rng.random(n) < 0.05).astype(np.int32)
-    ids = run_ids(phase, cycle)
-    assert ids.tolist() == _brute_runs(phase.tolist(), cycle.tolist())
-    assert run_starts(ids).tolist() == [i for i in range(n) if i == 0 or ids[i] != ids[i - 1]]
-    assert run_starts(np.empty(0)).size == 0

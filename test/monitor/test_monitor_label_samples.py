@@ -11,9 +11,11 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, screw_growth, synth_cycles
 
+from ebm_wear_monitor.domain.phases import Phase
+from ebm_wear_monitor.domain.segmentation import run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore
-from ebm_wear_monitor.monitor.segmentation import CE, FG, FM, FR, MOTION, REST, label_samples
+from ebm_wear_monitor.monitor.segmentation import CE, FG, FM, FR, label_samples
 
 
 def _labels(unit, synth, config=None):
@@ -23,7 +25,7 @@ def _labels(unit, synth, config=None):
 
 
 def _runs(code: np.ndarray) -> list[int]:
-    return code[np.concatenate(([True], code[1:] != code[:-1]))].tolist()
+    return code[run_starts(code)].tolist()
 
 
 def test_every_sample_labelled_in_phase_order_with_cycle_index(unit):
@@ -35,18 +37,18 @@ def test_every_sample_labelled_in_phase_order_with_cycle_index(unit):
     assert np.all(np.diff(lab.cycle) >= 0)
     for c, mk in enumerate(synth.marks):
         codes = lab.phase[lab.cycle == c]
-        runs = [r for r in _runs(codes) if r != REST]
+        runs = [r for r in _runs(codes) if r != Phase.IDLE]
         assert runs == [CE, FG, FM, FR]
         # the segment's samples lie inside the true motion (up to the threshold crossings), rest outside
         t = synth.t[lab.cycle == c]
-        active = t[codes != REST]
+        active = t[codes != Phase.IDLE]
         assert mk["start"] - 1e-9 <= active[0] <= mk["start"] + 5e-3
         assert mk["release_end"] - 5e-3 <= active[-1] <= mk["release_end"]
         held = t[codes == FM]
         assert held[0] == pytest.approx(mk["apply_end"], abs=5e-3)
         assert held[-1] == pytest.approx(mk["release_start"], abs=5e-3)
     # the stretch before the first application is rest and belongs to cycle 0
-    first = np.flatnonzero(lab.phase != REST)[0]
+    first = np.flatnonzero(lab.phase != Phase.IDLE)[0]
     assert first > 0 and np.all(lab.cycle[:first] == 0)
 
 
@@ -66,7 +68,7 @@ def test_phase_durations_equal_those_of_monitor_core(unit, rate_hz):
         in_cycle = lab.cycle == c
         durations = [int(span[in_cycle & (lab.phase == k)].sum()) * 1e-9 for k in (CE, FG, FM, FR)]
         assert durations == pytest.approx(list(summary.phase_durations_s), abs=1e-12)
-        assert t_ns[in_cycle & (lab.phase != REST)][0] == summary.start_ns
+        assert t_ns[in_cycle & (lab.phase != Phase.IDLE)][0] == summary.start_ns
 
 
 def test_data_starting_inside_an_application_is_motion(unit):
@@ -74,9 +76,9 @@ def test_data_starting_inside_an_application_is_motion(unit):
     a = np.flatnonzero(synth.velocity > 0)[5]  # cut inside the first apply move
     lab = label_samples(synth.t[a:], synth.angle[a:], synth.velocity[a:], synth.force[a:],
                         config=MonitorConfig(), thresholds=MonitorConfig().resolve(unit))
-    assert lab.phase[0] == MOTION and lab.kinds[0] == "motion"
+    assert lab.phase[0] == Phase.IDLE and lab.kinds[0] == "motion"  # motion outside an application: idle
     assert lab.kinds[1:] == ("cycle", "cycle")
-    assert set(np.unique(lab.phase[lab.cycle == 0]).tolist()) <= {MOTION, REST}
+    assert np.all(lab.phase[lab.cycle == 0] == Phase.IDLE)
 
 
 def test_gap_closes_the_application_as_interrupted(unit):
