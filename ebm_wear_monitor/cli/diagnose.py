@@ -26,7 +26,7 @@ from pathlib import Path
 from ebm_wear_monitor.cli.options import add_output_options, check_outputs, progress
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.outputs import write_json
-from ebm_wear_monitor.schema.diagnose import DiagnoseDocument, LifeDiagnosis, LifeFit, UnitDiagnosis
+from ebm_wear_monitor.schema.diagnose import DiagnoseDocument, LifeDiagnosis, UnitDiagnosis
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -81,14 +81,7 @@ def _life(data, unit) -> LifeDiagnosis:
     from ebm_wear_monitor.diagnosis.life import diagnose_life, life_data_from_applications
     from ebm_wear_monitor.replay.run import replay_unit
 
-    d = life_data_from_applications(replay_unit(data, unit).applications)
-    res = diagnose_life(d)
-    return LifeDiagnosis(
-        verdict=res["verdict"], effect=res["effect"], ranking=[LifeFit(**f) for f in res["ranking"]],
-        near_ties=res["near_ties"], noise_m=res["noise_m"], gap_before_m=res["gap_before_m"],
-        summaries=int(d.n.size),
-        source="monitor core duty-cycle summaries (clearance observed per application vs the wear model's "
-               "growth)")
+    return diagnose_life(life_data_from_applications(replay_unit(data, unit).applications))
 
 
 def _run_selftest(args: argparse.Namespace) -> int:

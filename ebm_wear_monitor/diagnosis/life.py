@@ -41,6 +41,7 @@ from scipy import optimize
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.ranking import ALPHA, TIE_ALPHA, improvement_p
 from ebm_wear_monitor.errors import InputError
+from ebm_wear_monitor.schema.diagnose import LifeDiagnosis, LifeFit
 
 BALL_SHARE_000 = 1.0 / 3.0  # 000 Sec. 4.1: raceway / ball wear split 2/3 : 1/3
 
@@ -118,7 +119,12 @@ def life_data_from_applications(apps) -> LifeData:
                     force=np.asarray(apps["peak_force_n"], dtype=float)[keep])
 
 
-def diagnose_life(d: LifeData) -> dict:
+#: where :func:`diagnose_life`'s summaries come from unless the caller says otherwise
+MONITOR_SUMMARIES = ("monitor core duty-cycle summaries (clearance observed per application vs the wear "
+                     "model's growth)")
+
+
+def diagnose_life(d: LifeData, source: str = MONITOR_SUMMARIES) -> LifeDiagnosis:
     """Rank the wear-level effects on held-out summaries (module docstring)."""
     if d.n.size < 8:
         raise InputError(f"life diagnosis needs at least 8 duty-cycle summaries, got {d.n.size}")
@@ -150,21 +156,19 @@ def diagnose_life(d: LifeData) -> dict:
         r.x = r.x * unit
         z1 = resid(r.x)
         s_b, s_a = float(np.sum(z0[held] ** 2)), float(np.sum(z1[held] ** 2))
-        fits.append({"effect": name, "parameters": [float(v) for v in r.x],
-                     "score": (s_b - s_a - 2.0 * r.x.size) / s_b if s_b > 0 else 0.0,
-                     "p_value": improvement_p(z0[held], z1[held]), "_z": z1[held]})
-    fits.sort(key=lambda f: -f["score"])
-    top = fits[0]
-    verdict = "effect" if top["p_value"] < ALPHA / len(fits) and top["score"] > 0 else "none"
+        fits.append((LifeFit(effect=name, parameters=[float(v) for v in r.x],
+                             score=(s_b - s_a - 2.0 * r.x.size) / s_b if s_b > 0 else 0.0,
+                             p_value=improvement_p(z0[held], z1[held])), z1[held]))
+    fits.sort(key=lambda fz: -fz[0].score)
+    top, z_top = fits[0]
+    verdict = "effect" if top.p_value < ALPHA / len(fits) and top.score > 0 else "none"
 
-    def tied(f: dict) -> bool:
+    def tied(z: np.ndarray) -> bool:
         # numerically the same curve (within 1e-3 noise), or neither significantly better
-        return bool(np.max(np.abs(f["_z"] - top["_z"])) < 1e-3) or (
-            improvement_p(f["_z"], top["_z"]) >= TIE_ALPHA and improvement_p(top["_z"], f["_z"]) >= TIE_ALPHA)
+        return bool(np.max(np.abs(z - z_top)) < 1e-3) or (
+            improvement_p(z, z_top) >= TIE_ALPHA and improvement_p(z_top, z) >= TIE_ALPHA)
 
-    ties = [f["effect"] for f in fits[1:] if f["score"] > 0 and tied(f)]
-    for f in fits:
-        f.pop("_z")
-    return {"verdict": verdict, "effect": top["effect"] if verdict == "effect" else None, "ranking": fits,
-            "near_ties": ties, "noise_m": sigma,
-            "gap_before_m": float(np.sqrt(np.mean((z0[held] * sigma) ** 2)))}
+    return LifeDiagnosis(
+        verdict=verdict, effect=top.effect if verdict == "effect" else None, ranking=[f for f, _ in fits],
+        near_ties=[f.effect for f, z in fits[1:] if f.score > 0 and tied(z)], noise_m=sigma,
+        gap_before_m=float(np.sqrt(np.mean((z0[held] * sigma) ** 2))), summaries=int(d.n.size), source=source)

@@ -22,20 +22,20 @@ def _data(kind: str, seed: int = 0) -> LifeData:
 @pytest.mark.parametrize("kind", ["running_in", "load_dependent_wear"])
 def test_life_effect_named(kind):
     res = diagnose_life(_data(kind))
-    assert res["verdict"] == "effect" and res["effect"] == kind
+    assert res.verdict == "effect" and res.effect == kind
 
 
 def test_wear_coefficient_ties_with_ball_share():
     res = diagnose_life(_data("wear_coefficient"))
-    assert res["effect"] in ("wear_coefficient", "ball_share")
-    other = "ball_share" if res["effect"] == "wear_coefficient" else "wear_coefficient"
-    assert other in res["near_ties"]
-    s = next(f for f in res["ranking"] if f["effect"] == "wear_coefficient")["parameters"][0]
+    assert res.effect in ("wear_coefficient", "ball_share")
+    other = "ball_share" if res.effect == "wear_coefficient" else "wear_coefficient"
+    assert other in res.near_ties
+    s = next(f for f in res.ranking if f.effect == "wear_coefficient").parameters[0]
     assert s == pytest.approx(0.2, abs=0.01)
 
 
 def test_life_none_on_model_data():
-    assert diagnose_life(_data("none", seed=3))["verdict"] == "none"
+    assert diagnose_life(_data("none", seed=3)).verdict == "none"
 
 
 def test_paper000_worked_example():
@@ -67,7 +67,7 @@ def test_summaries_with_faster_growth_name_a_scale_effect():
     apps = {"index": n, "peak_force_n": rng.choice([1e4, 2e4], n.size), "clearance_model_m": model,
             "clearance_observed_m": 2e-4 + 1.5e-7 * n + rng.normal(0.0, 2e-8, n.size)}
     res = diagnose_life(life_data_from_applications(apps))
-    assert res["verdict"] == "effect" and res["effect"] in ("wear_coefficient", "ball_share")
+    assert res.verdict == "effect" and res.effect in ("wear_coefficient", "ball_share")
     # whichever of the two tied scale effects ranks first, the Archard factor is 1.5 / 1.0 - 1
-    s = next(f for f in res["ranking"] if f["effect"] == "wear_coefficient")["parameters"][0]
+    s = next(f for f in res.ranking if f.effect == "wear_coefficient").parameters[0]
     assert s == pytest.approx(0.5, abs=0.05)
