@@ -37,7 +37,12 @@ import numpy as np
 
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import UnitParams, load_unit
-from ebm_wear_monitor.schema.diagnose import Confusion, ForeignCaseResult, ForeignCounts, ForeignSelftest
+from ebm_wear_monitor.schema.diagnose import (
+    ForeignCaseResult,
+    ForeignCounts,
+    ForeignSelftest,
+    confusion_matrix,
+)
 
 if TYPE_CHECKING:
     from ebm_wear_monitor.validation.foreign import Case
@@ -121,8 +126,6 @@ def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1
 
 def score(rows: list[ForeignCaseResult], seconds: float) -> ForeignSelftest:
     """Scores of the foreign self-test rows (module docstring)."""
-    from ebm_wear_monitor.diagnosis.selftest import count
-
     def rate(sel: list[ForeignCaseResult], ok: Callable[[ForeignCaseResult], bool]) -> float | None:
         return float(np.mean([ok(r) for r in sel])) if sel else None
 
@@ -133,9 +136,6 @@ def score(rows: list[ForeignCaseResult], seconds: float) -> ForeignSelftest:
     pairs = [r for r in rows if r.kind == "pair"]
     null = [r for r in rows if r.kind == "none"]
     outside = [r for r in rows if r.kind == "outside"]
-    confusion: Confusion = {}
-    for r in rows:
-        count(confusion, r.true, r.diagnosed)
     shrink = [r.shrink for r in single + pairs]
     return ForeignSelftest(
         cases=len(rows),
@@ -149,6 +149,6 @@ def score(rows: list[ForeignCaseResult], seconds: float) -> ForeignSelftest:
         pair_accuracy=rate(pairs, lambda r: r.pair_ok),
         counts=ForeignCounts(none=len(null), single=len(single), single_small=sum(map(small, single)),
                              pairs=len(pairs), outside=len(outside)),
-        confusion=confusion,
+        confusion=confusion_matrix((r.true, r.diagnosed) for r in rows),
         seconds=seconds,
         case_results=rows)

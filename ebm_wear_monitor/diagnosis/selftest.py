@@ -56,7 +56,13 @@ from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.params import UnitParams, load_unit
-from ebm_wear_monitor.schema.diagnose import CaseResult, Confusion, SelftestResult, SourceFalsePositives
+from ebm_wear_monitor.schema.diagnose import (
+    CaseResult,
+    Confusion,
+    SelftestResult,
+    SourceFalsePositives,
+    confusion_matrix,
+)
 
 RATE_HZ = 1000.0  # recording rate of the self-test: the nominal onboard rate (interface.md section 2) [Hz]
 OVERSAMPLE = 4  # plant integration steps per recorded sample (a 4 kHz plant)
@@ -210,20 +216,11 @@ def run_selftest(quick: bool = False, max_cases: int | None = None, seed: int = 
     return result
 
 
-def count(confusion: Confusion, true: str, answer: str) -> None:
-    """One more ``true`` label answered ``answer`` in a confusion matrix."""
-    row = confusion.setdefault(true, {})
-    row[answer] = row.get(answer, 0) + 1
-
-
 def summarise(rows: list[CaseResult], seconds: float) -> SelftestResult:
     """Scores of the self-test rows (module docstring)."""
     effect_rows = [r for r in rows if r.true != "none"]
     big = [r for r in effect_rows if r.relative_change >= 0.1]
     null = [r for r in rows if r.true == "none"]
-    confusion: Confusion = {}
-    for r in rows:
-        count(confusion, r.true, r.diagnosed)
 
     def top1(sel: list[CaseResult]) -> float | None:
         return float(np.mean([r.top1_ok for r in sel])) if sel else None
@@ -244,7 +241,7 @@ def summarise(rows: list[CaseResult], seconds: float) -> SelftestResult:
         top1_accuracy_by_source={src: top1([r for r in big if r.source == src])
                                  for src in sorted({r.source for r in big})},
         median_shrink=float(np.median(shrink)) if shrink else None,
-        confusion=confusion,
+        confusion=confusion_matrix((r.true, r.diagnosed) for r in rows),
         rate_hz=RATE_HZ, cycles_per_case=CYCLES, seconds=seconds,
         case_results=rows, foreign=None)
 

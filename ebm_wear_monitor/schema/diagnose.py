@@ -16,6 +16,7 @@ key; their quantities are declared in :data:`GIVEN` (the unit named by that key,
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from ebm_wear_monitor.domain.phases import PHASES
@@ -337,6 +338,15 @@ class ForeignCounts(Record):
 
 #: true label -> diagnosed answer -> count
 Confusion = dict[str, dict[str, int]]
+
+
+def confusion_matrix(pairs: Iterable[tuple[str, str]]) -> Confusion:
+    """The :data:`Confusion` of (true label, diagnosed answer) pairs."""
+    confusion: Confusion = {}
+    for true, answer in pairs:
+        row = confusion.setdefault(true, {})
+        row[answer] = row.get(answer, 0) + 1
+    return confusion
 
 
 @dataclass(frozen=True)
