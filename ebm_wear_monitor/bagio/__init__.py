@@ -41,7 +41,7 @@ Public API (all lengths/times SI; signals named as in interface.md section 4)::
 
 from ebm_wear_monitor.bagio.reader import BagReader, BagRecordings, bag_message_count, read_bags
 from ebm_wear_monitor.bagio.sidecar import GROUND_TRUTH_FILE, read_ground_truth
-from ebm_wear_monitor.bagio.types import message_types, msg_dir, typestore
+from ebm_wear_monitor.bagio.types import msg_dir, typestore
 from ebm_wear_monitor.bagio.writer import STORAGES, BagWriter, Series, write_unit_bag
 
 __all__ = [
@@ -52,7 +52,6 @@ __all__ = [
     "BagWriter",
     "Series",
     "bag_message_count",
-    "message_types",
     "msg_dir",
     "read_bags",
     "read_ground_truth",

@@ -47,8 +47,3 @@ def typestore() -> Typestore:
         types.update(get_types_from_msg(path.read_text(encoding="utf-8"), f"{MSG_PACKAGE}/msg/{path.stem}"))
     store.register(types)
     return store
-
-
-def message_types() -> list[str]:
-    """Names of the registered ``ebm_wear_msgs`` types, e.g. ``ebm_wear_msgs/msg/Float64Stamped``."""
-    return sorted(name for name in typestore().fielddefs if name.startswith(f"{MSG_PACKAGE}/"))
