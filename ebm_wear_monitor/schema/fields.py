@@ -93,11 +93,6 @@ def quantities(cls: type[Record] | Record) -> Iterator[tuple[str, Quantity]]:
             yield f.name, f.metadata[_KEY]
 
 
-def quantity_of(cls: type[Record], name: str) -> Quantity:
-    """The :class:`Quantity` of field ``name`` of ``cls``."""
-    return dict(quantities(cls))[name]
-
-
 # ---------------------------------------------------------------------------------------- JSON
 def to_json(record: Record) -> dict[str, Any]:
     """The JSON object of ``record``: every field with a ``json`` path at that path, in field order
