@@ -1,4 +1,4 @@
-"""Duty-cycle segmentation from the signals alone: the four phases of 000 Fig. 2 / Fig. 5.
+"""The causal (streaming) mode of the segmenter: the monitor's phases of 000 Fig. 2 / Fig. 5.
 
 000 Sec. 4.1 describes one brake application (duty cycle) as:
 
@@ -13,9 +13,14 @@
 
 This module turns the aligned sample stream into those phases with a causal
 state machine on two hysteresis pairs, both *relative to the unit*
-(:meth:`MonitorConfig.resolve`): screw speed (moving above ``omega_on``,
-stopped below ``omega_off``) and axial force above the rest level b (contact
-above ``b + force_on``, released below ``b + force_off``). Transitions:
+(:meth:`~ebm_wear_monitor.monitor.config.MonitorConfig.resolve`): screw speed
+(moving above ``omega_on``, stopped below ``omega_off``) and axial force above
+the rest level b (contact above ``b + force_on``, released below ``b + force_off``).
+The phase a transition enters is the segmenter's shared classification
+(:func:`ebm_wear_monitor.domain.segmentation.phase_of`) of the direction of motion
+that triggers it and of the contact the state holds: no contact from rest and in
+clearance elimination until the force onset, contact from then on until the
+application ends at a rest. Transitions:
 
 ====================  =========================================================
 rest -> CE            omega > omega_on  (omega < -omega_on from rest: 'motion')
@@ -69,30 +74,34 @@ gives the same segments bit for bit. The event loop visits transitions, not
 samples: each step is a binary search in index arrays precomputed per batch
 (speed conditions) or per window and rest level (force conditions).
 
-Offline users that need a label on *every* sample (e.g. a sim-to-real diagnosis:
-rest angle from the idle samples, stick branch of 004 eq. 9 from maintenance)
-call :func:`label_samples`: the same state machine and thresholds run once over
-the whole recording, and the stretches it consumes (every sample of every
-segment, moving or not) are recorded as index spans; samples outside any
-segment are ``idle``. The monitor's own path does not record them. This module
-is the *causal* mode of the project's segmentation, with the labels and run
-arithmetic of :mod:`ebm_wear_monitor.domain.segmentation` (which says why the
-diagnosis' offline mode keeps its own rules).
+Users that need a label on *every* sample of a recording (plots, analysis)
+call :func:`label_batch` (the monitor's
+:func:`ebm_wear_monitor.monitor.segmentation.label_samples`): the same state
+machine and thresholds run once over the whole recording, and the stretches it
+consumes (every sample of every segment, moving or not) are recorded as index
+spans; samples outside any segment are ``idle``. The monitor's own path does not
+record them. This module is the *causal* mode of the segmenter of
+:mod:`ebm_wear_monitor.domain.segmentation` (labels, classification, cycle index
+shared with the offline mode, :mod:`.offline`; that package says which rules
+only one mode applies and why).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import NamedTuple
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from ebm_wear_monitor.arrays import FloatArray
 from ebm_wear_monitor.domain.phases import APPLICATION_PHASES, Phase
-from ebm_wear_monitor.domain.segmentation import Labels, starts_up_to
-from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.monitor.alignment import AlignedBatch, stamps_to_ns
-from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
+from ebm_wear_monitor.domain.segmentation import BACKWARD, FORWARD, STOPPED, Labels, cycle_index, phase_of
+
+if TYPE_CHECKING:  # the monitor's input types (the monitor imports this module: no runtime import back)
+    from ebm_wear_monitor.monitor.alignment import AlignedBatch
+    from ebm_wear_monitor.monitor.config import MonitorConfig, Thresholds
+
+_BATCH_FIELDS = ("t_ns", "angle", "velocity", "force", "gap_before")
 
 # states of the machine: the four phases of an application, MOTION (moving outside any application: its
 # samples are labelled idle), REST and UNKNOWN; a kept sample's label is its state, a Phase code
@@ -284,8 +293,8 @@ class Segmenter:
         """Consume ``batch`` (after any carried samples); return the segments closed on the way."""
         if self._carry is not None and len(self._carry):
             c = self._carry
-            batch = AlignedBatch(*(np.concatenate([getattr(c, k), getattr(batch, k)])
-                                   for k in ("t_ns", "angle", "velocity", "force", "gap_before")))
+            batch = replace(batch, **{k: np.concatenate([getattr(c, k), getattr(batch, k)])
+                                      for k in _BATCH_FIELDS})
         self._carry = None
         out: list[Segment] = []
         n = len(batch)
@@ -329,7 +338,8 @@ class Segmenter:
         if p > 0:
             self._prev_ns, self._prev_angle = int(t[p - 1]), float(ang[p - 1])
         if p < n:
-            self._carry = AlignedBatch(t[p:], ang[p:], vel[p:], frc[p:], gap[p:])
+            self._carry = replace(batch, t_ns=t[p:], angle=ang[p:], velocity=vel[p:], force=frc[p:],
+                                  gap_before=gap[p:])
         if final:
             self._finish(out)
         self._s, self._fc = {}, None
@@ -365,7 +375,8 @@ class Segmenter:
             rest_angle = float(np.median(self._ring)) if self._ring.size else np.nan
         self._open = _Open(rest_angle, self.force_baseline)
         self._ring, self._ring_force = np.empty(0), np.empty(0)
-        self.state = CE if self._s["velocity"][s] > 0 else MOTION
+        # from rest (pads open), an apply move enters an application, any other move is motion outside one
+        self.state = phase_of(FORWARD, False) if self._s["velocity"][s] > 0 else MOTION
 
     def _settle(self, p: int, r: int, run_end: int, out: list[Segment], accept: bool = True
                 ) -> tuple[int, bool]:
@@ -403,7 +414,7 @@ class Segmenter:
             ev = min(m, q, e)
             if ev < e:
                 self._consume(p, ev, FG)
-                self.state = FR if q < m else FM
+                self.state = phase_of(BACKWARD if q < m else STOPPED, True)
                 return ev, False
             self._consume(p, e, FG)
             return e, False
@@ -412,7 +423,7 @@ class Segmenter:
             ev = min(a, q)
             if ev < min(r, e):
                 self._consume(p, ev, FM)
-                self.state = FG if a < q else FR
+                self.state = phase_of(FORWARD if a < q else BACKWARD, True)
                 return ev, False
             if r < e:
                 return self._settle(p, r, nf("i_notreleased", r), out)
@@ -425,7 +436,7 @@ class Segmenter:
             g = nf(_TO_FG[st], p)
             if g < min(r, e):
                 self._consume(p, g, st)
-                self.state = FG
+                self.state = phase_of(FORWARD, True)
                 return g, False
         if r < e:
             accept = True
@@ -442,7 +453,7 @@ class Segmenter:
 
 @dataclass(frozen=True)
 class SampleLabels(Labels):
-    """:class:`~ebm_wear_monitor.domain.segmentation.Labels` of every sample (:func:`label_samples`).
+    """:class:`~ebm_wear_monitor.domain.segmentation.Labels` of every sample (:func:`label_batch`).
 
     ``phase``: the Phase of the state that consumed the sample; IDLE for rest and for ``motion`` outside
     an application. ``cycle``: 0-based index of its segment (of any kind); rest belongs to the segment
@@ -470,33 +481,20 @@ class _LabellingSegmenter(Segmenter):
         super()._consume(a, b, label)
 
 
-def label_samples(t: np.ndarray, angle: np.ndarray, velocity: np.ndarray, force: np.ndarray, *,
-                  config: MonitorConfig, thresholds: Thresholds, force_baseline: float = 0.0) -> SampleLabels:
-    """Label every sample of an aligned recording with the state machine of this module.
+def label_batch(batch: AlignedBatch, *, config: MonitorConfig, thresholds: Thresholds,
+                force_baseline: float = 0.0) -> SampleLabels:
+    """Label every sample of a whole aligned recording (one batch, ``final=True``) with the state machine.
 
-    ``t``: strictly increasing stamps, int64 ns or float s; ``angle`` [rad], ``velocity`` [rad/s] and
-    ``force`` [N] of the screw at those stamps; ``config`` / ``thresholds`` as for :class:`MonitorCore`
-    (``thresholds = config.resolve(unit)``); ``force_baseline``: rest level b of the force before the
-    first rest is seen [N] (the monitor's persisted value; 0 for a new unit). Consecutive samples more
-    than ``config.gap_s`` apart are a gap, as in the aligner. The samples are fed in one batch with
-    ``final=True``, so the labels are those of the segments :class:`MonitorCore` would integrate.
+    ``config`` / ``thresholds`` as for the monitor (``thresholds = config.resolve(unit)``);
+    ``force_baseline``: rest level b of the force before the first rest is seen [N]. The labels are those
+    of the segments the monitor would integrate.
     """
-    t_ns, ok = stamps_to_ns(t)
-    n = t_ns.size
-    arrays = [np.asarray(a, dtype=float) for a in (angle, velocity, force)]
-    if any(a.shape != (n,) for a in arrays) or not ok.all():
-        raise InputError("label_samples: stamps must be finite and match the signals in length")
-    dt_ns = np.diff(t_ns)
-    if np.any(dt_ns <= 0):
-        raise InputError("label_samples: stamps must increase strictly")
-    gap = np.concatenate(([False], dt_ns > round(config.gap_s * 1e9)))
     seg = _LabellingSegmenter(config, thresholds, force_baseline)
-    angle_, velocity_, force_ = arrays
-    segments = seg.feed(AlignedBatch(t_ns, angle_, velocity_, force_, gap), final=True)
+    segments = seg.feed(batch, final=True)
+    n = len(batch)
     phase = np.full(n, Phase.IDLE, np.int8)
     for a, b, label in seg.spans:  # one entry per phase stretch, not per sample
         phase[a:b] = label
-    starts = np.searchsorted(t_ns, [s.start_ns for s in segments])
-    cycle = starts_up_to(starts[1:], n).astype(np.int32)
-    return SampleLabels(phase, cycle, tuple(s.kind for s in segments),
+    starts = np.searchsorted(batch.t_ns, [s.start_ns for s in segments])
+    return SampleLabels(phase, cycle_index(starts[1:], n), tuple(s.kind for s in segments),
                         np.array([s.force_baseline for s in segments], dtype=float))
