@@ -31,8 +31,8 @@ look-ahead passes:
      a controller that backs off a little and re-applies (trimming the held force) is still in the
      same application, a release that stops with the pads still touching before the next
      application is not (:mod:`ebm_wear_monitor.diagnosis.conventions` flags that next application
-     as not released). The cycle index is the segmenter's shared :func:`~ebm_wear_monitor.domain.
-     segmentation.cycle_index` of those starts.
+     as not released). The cycle index is the segmenter's shared
+     :func:`ebm_wear_monitor.domain.segmentation.cycle_index` of those starts.
 
 Every sample is labelled, the first application of a recording included (the causal mode,
 :mod:`.causal`, calls data that start inside an application ``motion``). The idle samples before a
