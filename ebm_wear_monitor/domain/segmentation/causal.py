@@ -17,10 +17,16 @@ state machine on two hysteresis pairs, both *relative to the unit*
 (moving above ``omega_on``, stopped below ``omega_off``) and axial force above
 the rest level b (contact above ``b + force_on``, released below ``b + force_off``).
 The phase a transition enters is the segmenter's shared classification
-(:func:`ebm_wear_monitor.domain.segmentation.phase_of`) of the direction of motion
-that triggers it and of the contact the state holds: no contact from rest and in
-clearance elimination until the force onset, contact from then on until the
-application ends at a rest. Transitions:
+(:func:`ebm_wear_monitor.domain.segmentation.phase_of`) of the direction and
+contact as the state machine reads them, with hysteresis: the direction is the
+one whose threshold the event crossed (forward above ``omega_on``, backward below
+``-omega_on``, stopped below ``omega_off``; clearance elimination holds the
+apply direction until a released stop), the contact is *held*: none from rest
+until the force onset, then contact until the application ends at a rest (a
+release is FR whatever the force, a stop after force generation is FM). Only the
+start from rest differs from the table: a move there in the release direction is
+``motion`` outside any application (idle), as no application is open to
+release. Transitions:
 
 ====================  =========================================================
 rest -> CE            omega > omega_on  (omega < -omega_on from rest: 'motion')
