@@ -4,7 +4,8 @@ Data flow (each step in its own module)::
 
     add(signal, stamps, values)            any chunk size, any interleaving of topics
       -> InputAligner.release              validate, de-duplicate, reorder, merge by stamp  (alignment.py)
-      -> Segmenter.feed                    four phases of 000 Fig. 2, segments              (segmentation.py)
+      -> Segmenter.feed                    four phases of 000 Fig. 2, segments              (segmentation.py:
+                                           the causal mode of domain/segmentation/causal.py)
       -> per closed segment:
            wear integral                   sum over moving samples of rate(F - b, omega) * dt (b: rest
                                            level of the force sensor), the physics core's

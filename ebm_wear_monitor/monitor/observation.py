@@ -7,7 +7,7 @@ the release rest position, before the pads touch and force builds. So
     x_ag,obs = (theta_onset - theta_rest) * l / (2 pi)                      (1)
 
 with ``l`` the lead. ``theta_rest`` is the rest angle before the application
-(segmentation.py). ``theta_onset`` is the angle at which the force (above its
+(domain/segmentation/causal.py). ``theta_onset`` is the angle at which the force (above its
 rest level) would be zero on the clamp's load line: the clamp is a spring
 (004 eq. 5-6, F = K_b (x - x_ag)), so in the force band from the contact
 threshold to ``max(4 force_on, 0.5 F_peak)`` the angle is linear in the force,
