@@ -73,9 +73,13 @@ the one that changes the twin's prediction most (:func:`contribution`).
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
 pair closes half of it, and ``none`` when it is not material: the twin explains the
-data within its tolerance.  Material means in physical units (:meth:`Scorer.unexplained_share`):
-the RMS model error beyond the noise exceeds, as a share of what the channel predicts,
-the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
+data within its tolerance.  Then structure outside the catalog's span is looked for
+(:mod:`.openset`): a significant torque periodic in the screw angle that removes more of the
+explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
+(the effects closed less than half of what is explainable); a significant and material one turns
+``none`` into ``unexplained`` (:func:`open_set_verdict`).  Material means in physical units
+(:meth:`Scorer.unexplained_share`): the RMS model error beyond the noise exceeds, as a share of
+what the channel predicts, the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
 
 **Parsimony.**  When an effect with fewer parameters is tied with the best-scoring
 one it is ranked first: ``efficiency_variation`` nests ``load_friction`` and must
@@ -98,6 +102,7 @@ from scipy import optimize, stats
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
     NOMINAL,
@@ -687,6 +692,7 @@ class Ranking:
     unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer method)
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
+    periodic: Periodic | None = None  # screw-periodic structure the verdict's model leaves (:mod:`.openset`)
 
     @property
     def top(self) -> EffectFit:
@@ -784,9 +790,45 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         verdict = "unexplained"
     else:
         verdict = "none"
+    periodic = None
+    if verdict != "unexplained":
+        explaining = joint.model if verdict == "effect" and joint is not None else sc.base
+        periodic = screw_periodic(sc, explaining)
+        verdict = open_set_verdict(sc, verdict, joint, periodic)
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
-    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level)
+    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, periodic)
+
+
+def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
+    """Screw-angle periodic structure in the held-out torque residual of ``m`` (:mod:`.openset`)."""
+    mdl, b = sc.model, sc.model.blocks
+    z = sc.z_raw(m.aug, np.ones(b.size, bool), ("torque",)) + sc.D[:b.size] @ m.t
+    return periodic_structure(mdl.rec.angle, b.start, b.stop, z, sigma=sc.sigma_torque,
+                              calibration=sc.split.calibration & b.moving,
+                              heldout=sc.split.heldout & b.moving, drive=mdl.drive_block(),
+                              test=improvement_p)
+
+
+def open_set_verdict(sc: Scorer, verdict: str, joint: EffectFit | None, periodic: Periodic | None) -> str:
+    """The verdict once structure no catalog effect makes is accounted for (:mod:`.openset`).
+
+    ``effect`` becomes ``unexplained`` when a significant screw-periodic torque removes more of the
+    explaining model's held-out error than the effects removed from the twin within its tolerance,
+    S_E - S_EP > S_W - S_E (the effects closed less than half of what is explainable); ``none``
+    becomes ``unexplained`` when that structure is significant and material in the twin within its
+    tolerance.
+    """
+    if periodic is None:
+        return verdict
+    level = ALPHA / HARMONICS
+    if verdict == "none":
+        return "unexplained" if periodic.counts(level) else verdict
+    if verdict == "effect" and joint is not None and periodic.p_value < level:
+        removed_by_effects = float(nominal_sse(sc).sum() - sc.cycle_sse(joint.model).sum())
+        if periodic.sse_before - periodic.sse_after > removed_by_effects:
+            return "unexplained"
+    return verdict
 
 
 def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: np.ndarray,
