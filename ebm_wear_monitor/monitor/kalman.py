@@ -242,28 +242,30 @@ class Hypotheses:
         B[~self.model, 0, 0] = 1.0
         return F, B
 
-    def projection(self, n: np.ndarray, mean_growth_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per component: (h1, h2, o),
-        each of shape n.shape + (M,).
+    def projection(self, n: np.ndarray, mean_growth_m: float,
+                   keep: np.ndarray | slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per kept component: (h1, h2, o),
+        each of shape n.shape + (kept,).
 
         Steady: h1 = n; exponential: h1 = (rho^n - 1) / (rho - 1); constant acceleration: h1 = n,
         h2 = n^2 / 2; model: h1 = n gbar, o = 0; o = n gbar for the others (gbar: the model's mean
         growth per application so far [m]). rho^n is capped at e^100 (beyond any limit).
         """
         n = np.asarray(n, float)[..., None]
-        log_rho = np.log(self.rho)
+        rho, model = self.rho[keep], self.model[keep]
+        log_rho = np.log(rho)
         grows = log_rho > 0.0
         with np.errstate(over="ignore", invalid="ignore"):
-            geometric = np.expm1(np.minimum(n * log_rho, 100.0)) / np.where(grows, self.rho - 1.0, 1.0)
-        h1 = np.where(self.model, n * mean_growth_m, np.where(grows, geometric, n))
-        h2 = np.where(self.accel, 0.5 * n * n, 0.0)
-        return h1, h2, np.where(self.model, 0.0, n * mean_growth_m)
+            geometric = np.expm1(np.minimum(n * log_rho, 100.0)) / np.where(grows, rho - 1.0, 1.0)
+        h1 = np.where(model, n * mean_growth_m, np.where(grows, geometric, n))
+        h2 = np.where(self.accel[keep], 0.5 * n * n, 0.0)
+        return h1, h2, np.where(model, 0.0, n * mean_growth_m)
 
     def moments(self, bank: Bank, n: np.ndarray, mean_growth_m: float,
                 keep: np.ndarray | slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Growth n applications ahead, G_n = Y_n - c, per kept component: its mean [m], its variance
         [m^2] and its covariance with the clearance c [m^2]."""
-        h1, h2, o = (a[..., keep] for a in self.projection(n, mean_growth_m))
+        h1, h2, o = self.projection(n, mean_growth_m, keep)
         x, P = bank.x[keep], bank.P[keep]
         mean = h1 * x[:, 1] + h2 * x[:, 2] + o
         var = h1 * h1 * P[:, 1, 1] + 2.0 * h1 * h2 * P[:, 1, 2] + h2 * h2 * P[:, 2, 2]

@@ -214,7 +214,7 @@ class ClearanceTracker:
         sig = self._sig
         sig.open_candidate()
         F, K, y, S, sign, outcome = self._filter(bank, rec)
-        sig.mu[:, :-1] = np.einsum("mij,mwjk->mwik", F, sig.mu[:, :-1])
+        sig.mu[:, :-1] = F[:, None] @ sig.mu[:, :-1]  # mu <- F mu for every candidate
         self._signs.append(sign)
         if K is not None:
             G = sig.mu[:, :, 0, :]  # (M, n, 2): H mu
