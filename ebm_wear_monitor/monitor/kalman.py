@@ -164,7 +164,7 @@ def load_filterpy() -> ModuleType:
 @functools.cache
 def _blas_threads() -> ThreadpoolController:
     """The BLAS libraries loaded with numpy (found once: 1.4 ms; a limit on them costs 0.06 ms)."""
-    return ThreadpoolController()
+    return ThreadpoolController()  # type: ignore[no-untyped-call]  # (threadpoolctl: no annotations)
 
 
 @contextmanager
