@@ -113,19 +113,27 @@ def _fit(angle: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, np.n
     return beta, xtx_inv, float(np.sum((angle - X @ beta) ** 2)) / dof if dof > 0 else 0.0
 
 
-def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s: float = 0.0,
-                      lag_var_s2: float = 0.0) -> Observation:
-    """The clearance of a completed cycle, with the pooled force lag ``lag_s`` (and its variance) applied,
-    and this application's own lag estimate for the pool (module docstring).
+@dataclass(frozen=True)
+class Bands:
+    """The samples of one application's fits: indices of the apply and release strokes inside the onset
+    band, and the angle's rate d theta / dt = d theta_i / dt_i of every sample [rad/s] (NaN where dt = 0)."""
 
-    Not observable: not a ``cycle``, no known rest angle (after a gap or at start), fewer
-    than 2 samples in the first force rise, a non-positive fitted compliance, or x <= 0.
+    apply: np.ndarray
+    release: np.ndarray
+    rate: np.ndarray
+
+
+def onset_bands(seg: Segment, th: Thresholds) -> Bands | None:
+    """The fit samples of a completed cycle (independent of the force lag, so found once per application).
+
+    None when not observable: not a ``cycle``, no known rest angle (after a gap or at start), fewer
+    than 2 samples in the first force rise, or a force constant over them.
     """
     if seg.kind != "cycle" or not math.isfinite(seg.rest_angle):
-        return _NONE
+        return None
     lo, hi = onset_band(th.force_on, seg.peak_force)
     with np.errstate(divide="ignore", invalid="ignore"):
-        rate = np.where(seg.dt > 0.0, seg.dangle / seg.dt, np.nan)  # d theta / dt from the angle [rad/s]
+        rate = np.where(seg.dt > 0.0, seg.dangle / seg.dt, np.nan)
 
     def band(stroke: np.ndarray) -> np.ndarray:
         f = seg.force[stroke]
@@ -133,13 +141,27 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s
         return kept
 
     apply_, release = band(_stroke(seg, FG, first=True)), band(_stroke(seg, FR, first=False))
+    if apply_.size < _MIN_FIT_SAMPLES:
+        return None
+    f = seg.force[apply_]
+    if float(np.sum((f - float(np.mean(f))) ** 2)) <= 0.0:
+        return None
+    return Bands(apply_, release, rate)
+
+
+def observe_clearance(seg: Segment, bands: Bands | None, th: Thresholds, config: MonitorConfig,
+                      lag_s: float = 0.0, lag_var_s2: float = 0.0, *, estimate_lag: bool = True) -> Observation:
+    """The clearance of a completed cycle from its fit samples (:func:`onset_bands`), with the pooled force
+    lag ``lag_s`` (and its variance) applied, and, if ``estimate_lag``, this application's own lag
+    estimate for the pool (module docstring; else its lag is NaN).
+
+    Not observable: no fit samples, a non-positive fitted compliance, or x <= 0.
+    """
+    if bands is None:
+        return _NONE
+    apply_, release, rate = bands.apply, bands.release, bands.rate
     n = apply_.size
-    if n < _MIN_FIT_SAMPLES:
-        return _NONE
     f, a, w = seg.force[apply_], seg.angle[apply_], rate[apply_]
-    f_mean = float(np.mean(f))
-    if float(np.sum((f - f_mean) ** 2)) <= 0.0:
-        return _NONE
     q_var = th.angle_resolution ** 2 / 12.0
     beta, xtx_inv, scatter = _fit(a - lag_s * w, [f])
     theta_onset, compliance = float(beta[0]), float(beta[1])
@@ -152,7 +174,7 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s
     var_onset = max(scatter, sensors) * float(xtx_inv[0, 0]) + float(np.mean(w)) ** 2 * lag_var_s2
     variance = (var_onset + q_var) * th.meters_per_rad ** 2 + config.clearance_repeatability_m ** 2
     lag, lag_var = math.nan, math.nan
-    if n >= _MIN_LAG_SAMPLES and release.size >= _MIN_LAG_SAMPLES:
+    if estimate_lag and n >= _MIN_LAG_SAMPLES and release.size >= _MIN_LAG_SAMPLES:
         both = np.concatenate([apply_, release])
         beta3, xtx3, scatter3 = _fit(seg.angle[both], [seg.force[both], rate[both]])
         lag_var = max(scatter3, sensors) * float(xtx3[2, 2])
