@@ -188,11 +188,12 @@ class MonitorCore:
         growth = model - (model if last is None else last)
         st.model_clearance_at_filter_m = model
         bands = onset_bands(seg, self._th)
-        obs = observe_clearance(seg, bands, self._th, self.config, *self.force_lag())
+        obs = observe_clearance(seg, bands, self._th, self.config, lag=self.force_lag())
         st.force_lag_weight, st.force_lag_weighted_sum = pool_lag(
             st.force_lag_weight, st.force_lag_weighted_sum, obs.lag_s, obs.lag_var_s2)
         if math.isfinite(obs.lag_s):  # this application's own lag is in the pool now: use it too
-            obs = observe_clearance(seg, bands, self._th, self.config, *self.force_lag(), estimate_lag=False)
+            obs = observe_clearance(seg, bands, self._th, self.config, lag=self.force_lag(),
+                                    estimate_lag=False)
         observed, observed_std = obs.clearance_m, obs.std_m
         self._fuse(growth, observed, observed_std)
         estimate, estimate_std = self._tracker.live.clearance()

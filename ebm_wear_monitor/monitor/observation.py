@@ -149,17 +149,18 @@ def onset_bands(seg: Segment, th: Thresholds) -> Bands | None:
     return Bands(apply_, release, rate)
 
 
-def observe_clearance(seg: Segment, bands: Bands | None, th: Thresholds, config: MonitorConfig,
-                      lag_s: float = 0.0, lag_var_s2: float = 0.0, *, estimate_lag: bool = True) -> Observation:
+def observe_clearance(seg: Segment, bands: Bands | None, th: Thresholds, config: MonitorConfig, *,
+                      lag: tuple[float, float] = (0.0, 0.0), estimate_lag: bool = True) -> Observation:
     """The clearance of a completed cycle from its fit samples (:func:`onset_bands`), with the pooled force
-    lag ``lag_s`` (and its variance) applied, and, if ``estimate_lag``, this application's own lag
-    estimate for the pool (module docstring; else its lag is NaN).
+    lag ``lag`` = (tau [s], its variance [s^2]) applied, and, if ``estimate_lag``, this application's own
+    lag estimate for the pool (module docstring; else its lag is NaN).
 
     Not observable: no fit samples, a non-positive fitted compliance, or x <= 0.
     """
     if bands is None:
         return _NONE
     apply_, release, rate = bands.apply, bands.release, bands.rate
+    lag_s, lag_var_s2 = lag
     n = apply_.size
     f, a, w = seg.force[apply_], seg.angle[apply_], rate[apply_]
     q_var = th.angle_resolution ** 2 / 12.0
@@ -173,14 +174,14 @@ def observe_clearance(seg: Segment, bands: Bands | None, th: Thresholds, config:
     sensors = q_var + (config.force_noise_n * compliance) ** 2
     var_onset = max(scatter, sensors) * float(xtx_inv[0, 0]) + float(np.mean(w)) ** 2 * lag_var_s2
     variance = (var_onset + q_var) * th.meters_per_rad ** 2 + config.clearance_repeatability_m ** 2
-    lag, lag_var = math.nan, math.nan
+    own, own_var = math.nan, math.nan
     if estimate_lag and n >= _MIN_LAG_SAMPLES and release.size >= _MIN_LAG_SAMPLES:
         both = np.concatenate([apply_, release])
         beta3, xtx3, scatter3 = _fit(seg.angle[both], [seg.force[both], rate[both]])
-        lag_var = max(scatter3, sensors) * float(xtx3[2, 2])
-        if float(beta3[1]) > 0.0 and lag_var > 0.0:
-            lag = float(beta3[2])
-    return Observation(x_obs, math.sqrt(variance), lag, lag_var)
+        own_var = max(scatter3, sensors) * float(xtx3[2, 2])
+        if float(beta3[1]) > 0.0 and own_var > 0.0:
+            own = float(beta3[2])
+    return Observation(x_obs, math.sqrt(variance), own, own_var)
 
 
 def pool_lag(weight_sum: float, weighted_sum: float, lag_s: float, lag_var_s2: float) -> tuple[float, float]:
