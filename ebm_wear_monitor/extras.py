@@ -1,7 +1,8 @@
 """What each install of ebm_wear_monitor needs from PyPI: one list, read by setup.py, the tools and the tests.
 
 * ``pip install .``: the onboard node (``ebm-wear-monitor``, the monitor core, ``ebm-wear calc``,
-  the listener) with :data:`ONBOARD` only: numpy, scipy, PyYAML, filterpy (which pulls matplotlib).
+  the listener) with :data:`ONBOARD` only: numpy, scipy, PyYAML, filterpy (which pulls
+  matplotlib), threadpoolctl.
 * ``pip install '.[tools]'``: adds :data:`TOOLS`, what ``ebm-wear replay|fleet|diagnose|simulate``,
   the reports, the bag player and the foreign-world generator import.
 * ``pip install '.[test]'``: the tools plus :data:`TEST`, what the test suite imports or runs.
@@ -52,6 +53,9 @@ ONBOARD: tuple[Requirement, ...] = (
     # the monitor's bank of Kalman filters (monitor/kalman.py); filterpy 2.0.0 declares matplotlib as an
     # install requirement, so pip brings matplotlib too (no module of this package imports it)
     Requirement("filterpy", ">=2.0.0", ("filterpy",)),
+    # the bank filters with BLAS on one thread (kalman.one_blas_thread): its stacked products are
+    # small, and threads waiting for a busy core made them a hundred times slower
+    Requirement("threadpoolctl", ">=3.1", ("threadpoolctl",)),
 )
 
 #: replay, fleet, diagnose, simulate, reports, player, foreign-world generator: the ``tools`` extra
@@ -65,7 +69,6 @@ TOOLS: tuple[Requirement, ...] = (
     Requirement("tqdm", ">=4.66", ("tqdm",)),
     Requirement("Jinja2", ">=3.1", ("jinja2",)),
     Requirement("plotly", ">=5.20", ("plotly",)),
-    Requirement("threadpoolctl", ">=3.1", ("threadpoolctl",)),  # the diagnosis's BLAS on one thread
 )
 
 #: what the tests import or run besides the tools: the ``test`` extra (which includes the tools)

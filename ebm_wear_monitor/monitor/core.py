@@ -40,7 +40,7 @@ from ebm_wear_monitor import physics
 from ebm_wear_monitor.monitor.alignment import FAULT_KINDS, InputAligner
 from ebm_wear_monitor.monitor.config import MonitorConfig
 from ebm_wear_monitor.monitor.life import fatigue_life, limiting_mechanism, wear_life
-from ebm_wear_monitor.monitor.observation import observe_clearance, pool_lag
+from ebm_wear_monitor.monitor.observation import observe_clearance, onset_bands, pool_lag
 from ebm_wear_monitor.monitor.persistence import save_state
 from ebm_wear_monitor.monitor.segmentation import N_LABELS, Segment, Segmenter
 from ebm_wear_monitor.monitor.state import MonitorState
@@ -188,11 +188,13 @@ class MonitorCore:
         last = st.model_clearance_at_filter_m  # set when the core starts: never None here
         growth = model - (model if last is None else last)
         st.model_clearance_at_filter_m = model
-        obs = observe_clearance(seg, self._th, self.config, *self.force_lag())
+        bands = onset_bands(seg, self._th)
+        obs = observe_clearance(seg, bands, self._th, self.config, lag=self.force_lag())
         st.force_lag_weight, st.force_lag_weighted_sum = pool_lag(
             st.force_lag_weight, st.force_lag_weighted_sum, obs.lag_s, obs.lag_var_s2)
         if math.isfinite(obs.lag_s):  # this application's own lag is in the pool now: use it too
-            obs = observe_clearance(seg, self._th, self.config, *self.force_lag())
+            obs = observe_clearance(seg, bands, self._th, self.config, lag=self.force_lag(),
+                                    estimate_lag=False)
         observed, observed_std = obs.clearance_m, obs.std_m
         self._fuse(growth, observed, observed_std)
         estimate, estimate_std = self._tracker.live.clearance()

@@ -92,13 +92,37 @@ pseudo-observations at beta = 1.
 Update in Joseph form, per component: K = P H' / S, x += K y,
 P = (I - K H) P (I - K H)' + K beta R K'.
 
-Each component's predict and update are filterpy's (``filterpy.kalman.predict`` / ``update``,
-Labbe, *Kalman and Bayesian Filters in Python*): x <- F x + B u, P <- F P F' (the process noise
-Q_k above is added after it, since its rate term scales with the predicted r), and the Joseph-form
-update with R = beta R_k. The bank around them is ours: the hypotheses' F and B, the weights, the
-noise scale, the mixture. filterpy's package import pulls scipy.stats (about 0.7 s), so it is
-imported on the first filter step (:func:`load_filterpy`), not with this module: a tool that never
-filters does not pay for it, and the node calls it before it subscribes.
+One filter for the whole bank (block-diagonal stacking)
+-------------------------------------------------------
+The predict and the update are filterpy's (``filterpy.kalman.predict`` / ``update``, Labbe,
+*Kalman and Bayesian Filters in Python*): x <- F x + B u, P <- F P F' (the process noise Q_k above
+is added after it, since its rate term scales with the predicted r), and the Joseph-form update
+with R = beta R_k. They run *once per step for all M components*: the components are independent
+filters that observe the same z, so they are exactly one linear Kalman filter over the stacked
+state X = [x_1; ...; x_M] (dimension 3M = 87) with
+
+    F = blkdiag(F_1, ..., F_M),   B = [B_1; ...; B_M],   P = blkdiag(P_1, ..., P_M),
+    H = blkdiag(H_1, ..., H_M) (M x 3M: row i picks c_i),   R = beta R_k I_M,   Z = [z, ..., z]'.
+
+Why this is exact: a product or sum of block-diagonal matrices with the same blocks is
+block-diagonal, block by block the product of the blocks. F P F' is, H P H' + R = diag(S_i) is
+(so its inverse is diag(1 / S_i)), the gain P H' S^-1 is blkdiag(K_i), and the Joseph form
+(I - K H) P (I - K H)' + K R K' is block i's Joseph form in block i. Every off-block entry is a sum
+of products with an exact zero factor, hence exactly 0, and every in-block entry sums the same
+non-zero terms as the component's own 3 x 3 filter: the stacked filter equals the M separate ones
+up to the order of floating-point summation (~1e-16 relative). The innovations Y = Z - H X and
+diag(S) are the components' own y_i and S_i; they give each component's likelihood for the
+weights below (:meth:`Bank.innovation`). The bank stores the blocks, (M, 3) means and (M, 3, 3)
+covariances (what the weights, the tracker and the remaining life read, and the persisted
+layout), and stacks them for each filterpy call (:func:`block_diag`). The bank around filterpy
+is ours: the hypotheses' F and B, the weights, the noise scale, the mixture. filterpy's package
+import pulls scipy.stats (about 0.7 s), so it is imported on the first filter step
+(:func:`load_filterpy`), not with this module: a tool that never filters does not pay for it,
+and the node calls it before it subscribes. The stacked products (87 x 87 x 87) are just above the
+size at which OpenBLAS splits a matrix product over threads, and a thread that waits for a busy core
+costs far more than the product (a predict and update of the bank took 48 ms on two threads of a
+shared two-core machine, 0.56 ms on one): the bank filters with BLAS on one thread
+(:func:`one_blas_thread`, around each application of the tracker).
 
 The clearance estimate reported is the mixture mean sum_i w_i c_i with the
 mixture variance sum_i w_i (P_i,cc + (c_i - c)^2). Outliers, steps of the
@@ -108,12 +132,16 @@ clearance and changes of the growth rate are handled around this bank by
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
 import numpy as np
+from threadpoolctl import ThreadpoolController
 
 from ebm_wear_monitor.monitor.config import MonitorConfig
 
@@ -123,7 +151,6 @@ _LOG_2PI = math.log(2.0 * math.pi)
 DIM = 3  # [c, r, a]
 #: components: the model, then (steady, each exponential, constant acceleration) x (steady, wandering rate)
 COMPONENTS = 1 + 2 * (len(E_FOLDING_RATES) + 2)
-_H = np.array([[1.0, 0.0, 0.0]])  # observation matrix: the clearance is observed
 
 
 def load_filterpy() -> ModuleType:
@@ -132,6 +159,36 @@ def load_filterpy() -> ModuleType:
 
     module: ModuleType = filterpy.kalman
     return module
+
+
+@functools.cache
+def _blas_threads() -> ThreadpoolController:
+    """The BLAS libraries loaded with numpy (found once: 1.4 ms; a limit on them costs 0.06 ms)."""
+    return ThreadpoolController()  # type: ignore[no-untyped-call]  # (threadpoolctl: no annotations)
+
+
+@contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """BLAS on one thread inside the block: the bank's products are small (module docstring)."""
+    with _blas_threads().limit(limits=1, user_api="blas"):
+        yield
+
+
+def block_diag(blocks: np.ndarray) -> np.ndarray:
+    """The (M a, M b) block-diagonal matrix of M blocks (M, a, b): block i at rows a i.., columns b i.."""
+    m, a, b = blocks.shape
+    out = np.zeros((m, a, m, b))
+    i = np.arange(m)
+    out[i, :, i, :] = blocks
+    return out.reshape(m * a, m * b)
+
+
+def diagonal_blocks(stacked: np.ndarray, m: int) -> np.ndarray:
+    """Inverse of :func:`block_diag` for square blocks: the M diagonal blocks (M, d, d) of (M d, M d)."""
+    d = stacked.shape[0] // m
+    i = np.arange(m)
+    blocks: np.ndarray = stacked.reshape(m, d, m, d)[i, :, i, :]
+    return blocks
 
 
 @dataclass(frozen=True)
@@ -185,28 +242,30 @@ class Hypotheses:
         B[~self.model, 0, 0] = 1.0
         return F, B
 
-    def projection(self, n: np.ndarray, mean_growth_m: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per component: (h1, h2, o),
-        each of shape n.shape + (M,).
+    def projection(self, n: np.ndarray, mean_growth_m: float,
+                   keep: np.ndarray | slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Clearance n applications ahead, Y_n = c + h1 x_1 + h2 x_2 + o, per kept component: (h1, h2, o),
+        each of shape n.shape + (kept,).
 
         Steady: h1 = n; exponential: h1 = (rho^n - 1) / (rho - 1); constant acceleration: h1 = n,
         h2 = n^2 / 2; model: h1 = n gbar, o = 0; o = n gbar for the others (gbar: the model's mean
         growth per application so far [m]). rho^n is capped at e^100 (beyond any limit).
         """
         n = np.asarray(n, float)[..., None]
-        log_rho = np.log(self.rho)
+        rho, model = self.rho[keep], self.model[keep]
+        log_rho = np.log(rho)
         grows = log_rho > 0.0
         with np.errstate(over="ignore", invalid="ignore"):
-            geometric = np.expm1(np.minimum(n * log_rho, 100.0)) / np.where(grows, self.rho - 1.0, 1.0)
-        h1 = np.where(self.model, n * mean_growth_m, np.where(grows, geometric, n))
-        h2 = np.where(self.accel, 0.5 * n * n, 0.0)
-        return h1, h2, np.where(self.model, 0.0, n * mean_growth_m)
+            geometric = np.expm1(np.minimum(n * log_rho, 100.0)) / np.where(grows, rho - 1.0, 1.0)
+        h1 = np.where(model, n * mean_growth_m, np.where(grows, geometric, n))
+        h2 = np.where(self.accel[keep], 0.5 * n * n, 0.0)
+        return h1, h2, np.where(model, 0.0, n * mean_growth_m)
 
     def moments(self, bank: Bank, n: np.ndarray, mean_growth_m: float,
                 keep: np.ndarray | slice = slice(None)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Growth n applications ahead, G_n = Y_n - c, per kept component: its mean [m], its variance
         [m^2] and its covariance with the clearance c [m^2]."""
-        h1, h2, o = (a[..., keep] for a in self.projection(n, mean_growth_m))
+        h1, h2, o = self.projection(n, mean_growth_m, keep)
         x, P = bank.x[keep], bank.P[keep]
         mean = h1 * x[:, 1] + h2 * x[:, 2] + o
         var = h1 * h1 * P[:, 1, 1] + 2.0 * h1 * h2 * P[:, 1, 2] + h2 * h2 * P[:, 2, 2]
@@ -256,13 +315,14 @@ class Bank:
         return self.noise_sum / self.noise_count
 
     def predict(self, hyp: Hypotheses, config: MonitorConfig, growth_m: float) -> np.ndarray:
-        """x <- F x + B g, P <- F P F' (filterpy, per component), then P += Q for one application;
-        returns F (M, 3, 3)."""
+        """x <- F x + B g, P <- F P F' (one filterpy predict of the stacked bank, module docstring),
+        then P += Q for one application; returns F (M, 3, 3)."""
         kalman = load_filterpy()
         F, B = hyp.transition(growth_m)
-        u = np.array([growth_m])
-        for i in range(hyp.size):
-            self.x[i], self.P[i] = kalman.predict(self.x[i], self.P[i], F[i], 0.0, u, B[i])
+        m = hyp.size
+        x, P = kalman.predict(self.x.ravel(), block_diag(self.P), block_diag(F), 0.0, np.array([growth_m]),
+                              B.reshape(m * DIM, 1))
+        self.x, self.P = x.reshape(m, DIM), diagonal_blocks(P, m)
         self.P[:, 0, 0] += (config.growth_scatter * growth_m) ** 2
         rate_noise = np.where(hyp.model, config.factor_drift_per_cycle, hyp.wander * np.abs(self.x[:, 1]))
         self.P[:, 1, 1] += rate_noise ** 2
@@ -279,15 +339,18 @@ class Bank:
 
     def update(self, config: MonitorConfig, observed_m: float, budget_var_m2: float, y: np.ndarray,
                S: np.ndarray) -> np.ndarray:
-        """Fuse the observation ``observed_m`` [m] (innovations y, S from :meth:`innovation`): filterpy's
-        Joseph-form update per component with H = [1, 0, 0], R = beta R_k; returns the gains
-        K = P H' / S (M, 3) of the prior P."""
+        """Fuse the observation ``observed_m`` [m] (innovations y, S from :meth:`innovation`): one
+        filterpy Joseph-form update of the stacked bank, H = blkdiag([1, 0, 0]), R = beta R_k I_M
+        (module docstring); returns the gains K = P H' / S (M, 3) of the prior P."""
         kalman = load_filterpy()
+        m = self.x.shape[0]
         prior_cc = self.P[:, 0, 0].copy()
         K: np.ndarray = self.P[:, :, 0] / S[:, None]
-        z, R = np.array([observed_m]), np.array([[self.noise_scale * budget_var_m2]])
-        for i in range(self.x.shape[0]):
-            self.x[i], self.P[i] = kalman.update(self.x[i], self.P[i], z, R, _H)
+        H = np.zeros((m, m * DIM))
+        H[np.arange(m), np.arange(0, m * DIM, DIM)] = 1.0
+        R = np.diag(np.full(m, self.noise_scale * budget_var_m2))
+        x, P = kalman.update(self.x.ravel(), block_diag(self.P), np.full(m, observed_m), R, H)
+        self.x, self.P = x.reshape(m, DIM), diagonal_blocks(P, m)
         self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
         self.logw = self.logw - 0.5 * (_LOG_2PI + np.log(S) + y * y / S)
         w = self.weights()

@@ -113,19 +113,27 @@ def _fit(angle: np.ndarray, columns: list[np.ndarray]) -> tuple[np.ndarray, np.n
     return beta, xtx_inv, float(np.sum((angle - X @ beta) ** 2)) / dof if dof > 0 else 0.0
 
 
-def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s: float = 0.0,
-                      lag_var_s2: float = 0.0) -> Observation:
-    """The clearance of a completed cycle, with the pooled force lag ``lag_s`` (and its variance) applied,
-    and this application's own lag estimate for the pool (module docstring).
+@dataclass(frozen=True)
+class Bands:
+    """The samples of one application's fits: indices of the apply and release strokes inside the onset
+    band, and the angle's rate d theta / dt = d theta_i / dt_i of every sample [rad/s] (NaN where dt = 0)."""
 
-    Not observable: not a ``cycle``, no known rest angle (after a gap or at start), fewer
-    than 2 samples in the first force rise, a non-positive fitted compliance, or x <= 0.
+    apply: np.ndarray
+    release: np.ndarray
+    rate: np.ndarray
+
+
+def onset_bands(seg: Segment, th: Thresholds) -> Bands | None:
+    """The fit samples of a completed cycle (independent of the force lag, so found once per application).
+
+    None when not observable: not a ``cycle``, no known rest angle (after a gap or at start), fewer
+    than 2 samples in the first force rise, or a force constant over them.
     """
     if seg.kind != "cycle" or not math.isfinite(seg.rest_angle):
-        return _NONE
+        return None
     lo, hi = onset_band(th.force_on, seg.peak_force)
     with np.errstate(divide="ignore", invalid="ignore"):
-        rate = np.where(seg.dt > 0.0, seg.dangle / seg.dt, np.nan)  # d theta / dt from the angle [rad/s]
+        rate = np.where(seg.dt > 0.0, seg.dangle / seg.dt, np.nan)
 
     def band(stroke: np.ndarray) -> np.ndarray:
         f = seg.force[stroke]
@@ -133,13 +141,28 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s
         return kept
 
     apply_, release = band(_stroke(seg, FG, first=True)), band(_stroke(seg, FR, first=False))
+    if apply_.size < _MIN_FIT_SAMPLES:
+        return None
+    f = seg.force[apply_]
+    if float(np.sum((f - float(np.mean(f))) ** 2)) <= 0.0:
+        return None
+    return Bands(apply_, release, rate)
+
+
+def observe_clearance(seg: Segment, bands: Bands | None, th: Thresholds, config: MonitorConfig, *,
+                      lag: tuple[float, float] = (0.0, 0.0), estimate_lag: bool = True) -> Observation:
+    """The clearance of a completed cycle from its fit samples (:func:`onset_bands`), with the pooled force
+    lag ``lag`` = (tau [s], its variance [s^2]) applied, and, if ``estimate_lag``, this application's own
+    lag estimate for the pool (module docstring; else its lag is NaN).
+
+    Not observable: no fit samples, a non-positive fitted compliance, or x <= 0.
+    """
+    if bands is None:
+        return _NONE
+    apply_, release, rate = bands.apply, bands.release, bands.rate
+    lag_s, lag_var_s2 = lag
     n = apply_.size
-    if n < _MIN_FIT_SAMPLES:
-        return _NONE
     f, a, w = seg.force[apply_], seg.angle[apply_], rate[apply_]
-    f_mean = float(np.mean(f))
-    if float(np.sum((f - f_mean) ** 2)) <= 0.0:
-        return _NONE
     q_var = th.angle_resolution ** 2 / 12.0
     beta, xtx_inv, scatter = _fit(a - lag_s * w, [f])
     theta_onset, compliance = float(beta[0]), float(beta[1])
@@ -151,14 +174,14 @@ def observe_clearance(seg: Segment, th: Thresholds, config: MonitorConfig, lag_s
     sensors = q_var + (config.force_noise_n * compliance) ** 2
     var_onset = max(scatter, sensors) * float(xtx_inv[0, 0]) + float(np.mean(w)) ** 2 * lag_var_s2
     variance = (var_onset + q_var) * th.meters_per_rad ** 2 + config.clearance_repeatability_m ** 2
-    lag, lag_var = math.nan, math.nan
-    if n >= _MIN_LAG_SAMPLES and release.size >= _MIN_LAG_SAMPLES:
+    own, own_var = math.nan, math.nan
+    if estimate_lag and n >= _MIN_LAG_SAMPLES and release.size >= _MIN_LAG_SAMPLES:
         both = np.concatenate([apply_, release])
         beta3, xtx3, scatter3 = _fit(seg.angle[both], [seg.force[both], rate[both]])
-        lag_var = max(scatter3, sensors) * float(xtx3[2, 2])
-        if float(beta3[1]) > 0.0 and lag_var > 0.0:
-            lag = float(beta3[2])
-    return Observation(x_obs, math.sqrt(variance), lag, lag_var)
+        own_var = max(scatter3, sensors) * float(xtx3[2, 2])
+        if float(beta3[1]) > 0.0 and own_var > 0.0:
+            own = float(beta3[2])
+    return Observation(x_obs, math.sqrt(variance), own, own_var)
 
 
 def pool_lag(weight_sum: float, weighted_sum: float, lag_s: float, lag_var_s2: float) -> tuple[float, float]:

@@ -54,7 +54,11 @@ Three mechanisms, all on the innovations y_k = z_k - c_k of the bank:
 The live bank is therefore always ``replay(anchor, records)``: the anchor bank
 and the last W records (model growth, observation, its error budget, jump
 flags), the whole persistent state. Replaying it gives bit-identical numbers,
-so a restarted monitor continues exactly where it stopped.
+so a restarted monitor continues exactly where it stopped. The tracker keeps the
+live bank as it was after each record (``replay(anchor, records[:j + 1])``,
+rebuilt with it): when the oldest record leaves the window, the one after it is
+the new anchor, the same numbers as filtering the anchor with that record again,
+without filtering it a second time.
 """
 
 from __future__ import annotations
@@ -68,7 +72,7 @@ import numpy as np
 from scipy.special import ndtri
 
 from ebm_wear_monitor.monitor.config import MonitorConfig
-from ebm_wear_monitor.monitor.kalman import DIM, Bank, Hypotheses
+from ebm_wear_monitor.monitor.kalman import DIM, Bank, Hypotheses, one_blas_thread
 
 #: fused observations a clearance step needs after it before it is acted on (a gated observation alone
 #: is an outlier; a step confirmed by three consecutive ones is not)
@@ -161,9 +165,11 @@ class ClearanceTracker:
     live: Bank = field(init=False)
     _sig: _Signatures = field(init=False)
     _signs: list[float] = field(init=False)  # sign of the leading innovation of each record (0: fused/none)
+    _after: list[Bank] = field(init=False)  # the live bank after each record: replay(anchor, records[:j + 1])
 
     def __post_init__(self) -> None:
-        self._rebuild()
+        with one_blas_thread():
+            self._rebuild()
 
     @classmethod
     def start(cls, config: MonitorConfig, clearance_m: float, clearance_var_m2: float, limit_m: float,
@@ -178,9 +184,10 @@ class ClearanceTracker:
     def configure(self, config: MonitorConfig) -> None:
         """New thresholds from the next application on (prior weights only matter at the start)."""
         self.config, self.hyp = config, Hypotheses.build(config)
-        while len(self.records) > config.change_window_cycles:
-            self._filter(self.anchor, self.records.pop(0))
-        self._rebuild()
+        with one_blas_thread():
+            while len(self.records) > config.change_window_cycles:
+                self._filter(self.anchor, self.records.pop(0))
+            self._rebuild()
 
     # ---------------------------------------------------------------- one application
     def _filter(self, bank: Bank, rec: Record) -> tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray,
@@ -207,7 +214,7 @@ class ClearanceTracker:
         sig = self._sig
         sig.open_candidate()
         F, K, y, S, sign, outcome = self._filter(bank, rec)
-        sig.mu[:, :-1] = np.einsum("mij,mwjk->mwik", F, sig.mu[:, :-1])
+        sig.mu[:, :-1] = F[:, None] @ sig.mu[:, :-1]  # mu <- F mu for every candidate
         self._signs.append(sign)
         if K is not None:
             G = sig.mu[:, :, 0, :]  # (M, n, 2): H mu
@@ -217,13 +224,19 @@ class ClearanceTracker:
             sig.fused += 1
         return outcome
 
+    def _advance(self, rec: Record) -> str:
+        """:meth:`_apply` to the live bank, which is then kept as the bank after ``rec``."""
+        outcome = self._apply(self.live, rec)
+        self._after.append(self.live.copy())
+        return outcome
+
     def _rebuild(self) -> None:
-        """live = replay(anchor, records), with the GLR sums (module docstring, item 4)."""
+        """live = replay(anchor, records), with the GLR sums and the bank after each record (item 4)."""
         self.live = self.anchor.copy()
         self._sig = _Signatures.empty(self.hyp.size)
-        self._signs = []
+        self._signs, self._after = [], []
         for rec in self.records:
-            self._apply(self.live, rec)
+            self._advance(rec)
 
     def step(self, growth_m: float, observed_m: float, budget_var_m2: float) -> StepResult:
         """One brake application: model growth [m], observed clearance [m] (NaN: none), its budget R [m^2]."""
@@ -231,13 +244,15 @@ class ClearanceTracker:
         if math.isnan(rec.observed_m) or not rec.budget_var_m2 > 0.0:
             rec.observed_m = rec.budget_var_m2 = math.nan
         self.records.append(rec)
-        result = StepResult(self._apply(self.live, rec))
-        if result.outcome == REJECTED:
-            self._large_step(result)
-        elif result.outcome == FUSED:
-            self._detect(result)
+        with one_blas_thread():
+            result = StepResult(self._advance(rec))
+            if result.outcome == REJECTED:
+                self._large_step(result)
+            elif result.outcome == FUSED:
+                self._detect(result)
         if len(self.records) > self.config.change_window_cycles:
-            self._filter(self.anchor, self.records.pop(0))
+            self.records.pop(0)
+            self.anchor = self._after.pop(0)  # = the anchor filtered with the record that left
             self._sig.drop_oldest()
             self._signs.pop(0)
         return result
