@@ -1,34 +1,39 @@
-"""Structure no catalog effect can make: a torque periodic in the screw angle (issue 10 item 4, open set).
+"""Structure the catalog cannot represent: torque as a function of where the screw is (issue 10 item 4).
 
 Every catalog effect (:mod:`.catalog`) changes the twin of 004 as a function of the motor speed
-(eq. 9's viscous and Stribeck terms), the clamp force (eq. 9's load term, the efficiency) or the nut
-travel (eq. 5's clearance and stiffness), and every acquisition nuisance as a function of time
-(:mod:`.residuals`). None of them depends on *where the screw is within its turn*. A torque that
-repeats with the screw angle q (ripple from a raceway defect or a bent screw, cogging referred to
-the screw, a ball-return obstruction) is therefore outside the catalog; fitted with a catalog effect
-it is absorbed in part (over one application q rises with the force, so a periodic torque looks
-like a little load friction) and the rest stays in the residual.
+(eq. 9's viscous and Stribeck terms) or the clamp force (eq. 9's load term, the efficiency) in the
+torque channel, and of the nut travel only through the force (eq. 5's clearance and stiffness). None
+depends on *where the screw is* while the force is zero (clearance elimination) or at a given force
+(the same force is reached at other angles on the way back). A torque that does (ripple from a
+raceway defect or a bent screw, cogging referred to the screw, a seal or a ball return that drags
+over part of the stroke) is outside the catalog; a catalog effect fitted to it absorbs a part and
+leaves the rest.
+
+**A generic function of the screw angle.**  The harmonics k = 1 .. :data:`HARMONICS` of the screw
+angle q, amplitude and phase free (so the encoder's zero, a nuisance, does not matter), serve as a
+smooth generic function of q. Over a long stroke they are a ripple periodic in the screw's turn;
+where every application covers the same window of angles (the foreign recordings: about 0.7-0.9 rad
+per application with a start that varies by ~2 mrad) they are a smooth function of the position
+within the stroke. Either way no combination of catalog effects can produce them at zero force.
 
 **Test.**  On the moving blocks the held-out torque residual r of the explaining model (the selected
 effects, or the twin within its tolerance when none is selected) is normalised by its block noise,
-z = r / sigma.  For each harmonic k = 1 .. :data:`HARMONICS` of q the block means of sin(k q) and
-cos(k q) (two columns: amplitude and phase free, so the encoder's zero, a nuisance, does not
-matter) are fitted to z by least squares on the calibration blocks, the regressors divided by sigma
-too, so the coefficients a_k, b_k are in N m.  The harmonic whose fit lowers the calibration sum of
-z^2 most is judged on the held-out blocks with the test of :func:`.ranking.improvement_p` at level
-alpha / K (Bonferroni over the harmonics).  It *counts* when that test passes and it is
-**material**: its amplitude A = sqrt(a_k^2 + b_k^2) exceeds, with 95 % confidence
+z = r / sigma.  For each k the block means of sin(k q) and cos(k q), divided by sigma too (so the
+coefficients a_k, b_k are in N m), are fitted to z by least squares on the calibration blocks.  The
+harmonic whose fit lowers the calibration sum of z^2 most is judged on the held-out blocks with the
+test of :func:`.ranking.improvement_p` at level alpha / K (Bonferroni over the harmonics).  It is
+*material* when its amplitude A = sqrt(a_k^2 + b_k^2) exceeds, with 95 % confidence
 (A - 1.645 std(A) > floor), the bound that makes any model error of the torque channel material,
 ``MATERIAL_SHARE['torque']`` (2 %, the K_T x current-gain tolerance) of the RMS motor torque over the
 moving blocks (:mod:`.tolerance`).
 
-**Consequence for the verdict** (:func:`.ranking.rank`).  Material periodic structure means the
-explaining model leaves a material part of the model error that no catalog effect can represent.
-With S the held-out sum of z^2 of the twin within its tolerance (W), of the explaining model (E) and
-of E plus the periodic term (EP): when the catalog's part, S_W - S_E, is less than half of what
-both remove together, S_W - S_EP, the effects did not close half of the explainable error and the
-verdict is ``unexplained``; a ``none`` verdict with material periodic structure becomes
-``unexplained`` too (the twin misses a material torque that no catalog effect makes).
+**Consequence for the verdict** (:func:`.ranking.open_set_verdict`).  With S the held-out sum of z^2
+of the twin within its tolerance (W, all rows), of the explaining model (E) and, on the moving
+torque rows, of E without the harmonic's prediction (EP): when the significant harmonic removes more
+of E's error, S_E - S_EP, than the effects removed from W's, S_W - S_E, the effects closed less than
+half of the error that is explainable and the verdict ``effect`` becomes ``unexplained``; a ``none``
+verdict becomes ``unexplained`` only when the harmonic is also material (the twin within its
+tolerance then misses a material torque that no catalog effect makes).
 """
 
 from __future__ import annotations

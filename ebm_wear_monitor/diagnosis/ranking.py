@@ -73,8 +73,8 @@ the one that changes the twin's prediction most (:func:`contribution`).
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
 pair closes half of it, and ``none`` when it is not material: the twin explains the
-data within its tolerance.  Then structure outside the catalog's span is looked for
-(:mod:`.openset`): a significant torque periodic in the screw angle that removes more of the
+data within its tolerance.  Then structure the catalog cannot represent is looked for
+(:mod:`.openset`): a significant torque as a function of the screw angle that removes more of the
 explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
 (the effects closed less than half of what is explainable); a significant and material one turns
 ``none`` into ``unexplained`` (:func:`open_set_verdict`).  Material means in physical units
