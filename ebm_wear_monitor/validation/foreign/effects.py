@@ -31,9 +31,13 @@ standstill, to the static level ``C_s`` too (004 eq. 9 structure).
 | force_sensor_bias | gain_offset_quadratic | ``F_cell = (1+g) F + b + c F^2 / 50 kN`` |
 | force_sensor_bias | thermal_drift | ``F_cell = (1 + g_k) F + b_k``, gain and offset drifting with time |
 | torque_constant_loss (outside) | flux | ``K_T, K_E -> (1 - s) K_T, (1 - s) K_E`` |
-| backlash (outside) | play | play ``b`` between motor and screw (motor side), ``s = b r_g / x_ag`` |
+| backlash (outside) | play | play ``b`` (motor side), ``s = b r_g / x_ag``; in it ``J_m + J_g``, ``1-f_s`` |
 | torque_ripple (outside) | screw_periodic | ``T_d += s T_fc sin(k th/i_g + phi)`` |
 | friction_drift (outside) | rising / warming | ``C_k, C_s`` times ``m_k`` per application (drifting) |
+
+In the backlash play the motor is decoupled from what lies past the gear mesh: it carries only its
+own and the gear's inertia and the friction share ``1 - f_s`` (``f_s`` drawn in 0.5-0.8: the
+screw-nut preload and the support bearing make most of a ball-screw drive's no-load friction).
 
 Stribeck and Coulomb-only preload forms keep ``C_s >= C_k`` at standstill (``C_s`` raised by
 ``max(0, C_k(0) - T_fs)``): friction cannot exceed its breakaway level.
@@ -252,12 +256,16 @@ def torque_constant_flux(phys: Physics, ctx: Context, s: float) -> dict:
 
 def backlash_play(phys: Physics, ctx: Context, s: float) -> dict:
     b = s * ctx.act.x_ag / ctx.act.r_g
+    share = float(ctx.rng.uniform(0.5, 0.8))
     phys.backlash = b
+    phys.screw_friction_share = share
     return _record("backlash", "play",
                    "theta - b <= q <= theta (motor theta, screw q referred to the motor); under load "
-                   "the screw rests on the forward flank; inside the play the motor sees no load "
-                   "torque and the drive's friction",
-                   "play as a share of the clearance x_ag", s, b_motor_rad=b, b_axial_m=b * ctx.act.r_g)
+                   "the screw rests on the forward flank; inside the play the motor turns against no "
+                   "clamp load, only its own and the gear's inertia J_m + J_g and the friction share "
+                   "1 - f_s not downstream of the gear mesh (f_s: screw-nut and support bearing)",
+                   "play as a share of the clearance x_ag", s, b_motor_rad=b, b_axial_m=b * ctx.act.r_g,
+                   screw_friction_share=share)
 
 
 def ripple_screw_periodic(phys: Physics, ctx: Context, s: float) -> dict:

@@ -56,6 +56,9 @@ class Physics:
     cell: Callable[[np.ndarray], np.ndarray] | None = None  # f(F) -> cell output before lag; None: identity
     kt_factor: float = 1.0  # motor torque (and back-EMF) constant factor
     backlash: float = 0.0  # play between motor and screw, motor-side [rad]
+    #: share of the no-load friction (T_fs, T_fc, B) acting downstream of the play (screw-nut, support
+    #: bearing): inside the play the motor turns against the rest only, with its own and the gear's inertia
+    screw_friction_share: float = 0.0
     clearance_extra: object = None  # per-application extra clearance [m] or None
     absolute: bool = False  # hooks depend on the absolute angle (origin must be known)
 
@@ -91,6 +94,7 @@ class Plant:
         self.f_cell = self.cell_output(self.F)
         self.t = 0.0
         self._J = act.J_me
+        self._J_motor = act.J_m + act.J_g  # what the motor carries inside a backlash play [kg m^2]
         self._kt = act.K_T * self.phys.kt_factor
         self._ke = act.K_E * self.phys.kt_factor
         self._cell_a = 1.0 - np.exp(-dt / cell_lag) if cell_lag > 0 else 1.0
@@ -139,11 +143,17 @@ class Plant:
         t_d = self._kt * i - a.r_g * F
         for f in ph.drive_extra:
             t_d = t_d + f(th)
+        J_dt, inv_w = self._J_dt, self._inv_w
         if ph.backlash > 0.0:
-            t_d = self._backlash_drive(t_d, i)
+            free = self._in_play()  # no flank engaged: no clamp load, screw-side friction and inertia
+            t_d = np.where(free, self._kt * i, t_d)
+            keep = np.where(free, 1.0 - ph.screw_friction_share, 1.0)
+            c_k, c_s = c_k * keep, c_s * keep
+            J_dt = np.where(free, self._J_motor / self.dt, self._J_dt)
+            inv_w = 1.0 / (J_dt + a.B * keep)
         stuck = w == 0.0
         slide = np.where(stuck, t_d, w)  # the direction friction opposes
-        w_new = (self._J_dt * w + t_d - np.copysign(c_k, slide)) * self._inv_w
+        w_new = (J_dt * w + t_d - np.copysign(c_k, slide)) * inv_w
         w_new[np.where(stuck, np.abs(t_d) <= c_s, w_new * w <= 0.0)] = 0.0
         self.w = w_new
         self.i = i
@@ -166,8 +176,7 @@ class Plant:
         loaded = self.clamp_force(theta - b) > 0.0
         return np.where(loaded, theta - b, q)
 
-    def _backlash_drive(self, t_d: np.ndarray, i: np.ndarray) -> np.ndarray:
-        """Inside the play (no flank engaged) the motor sees no clamp load torque."""
+    def _in_play(self) -> np.ndarray:
+        """Applications whose motor is inside the play (neither flank engaged)."""
         gap = self.theta - self.q
-        free = (gap > 1e-12) & (gap < self.phys.backlash - 1e-12)
-        return np.where(free, self._kt * i, t_d)
+        return (gap > 1e-12) & (gap < self.phys.backlash - 1e-12)
