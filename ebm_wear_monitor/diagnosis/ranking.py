@@ -692,7 +692,9 @@ class Ranking:
     unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer method)
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
-    periodic: Periodic | None = None  # screw-periodic structure the verdict's model leaves (:mod:`.openset`)
+    periodic: Periodic | None = None  # torque depending on the screw position the verdict's model leaves
+    periodic_share: float | None = None  # share of the explainable error the effects close (:mod:`.openset`)
+    periodic_decided: bool = False  # the periodic structure turned the verdict into ``unexplained``
 
     @property
     def top(self) -> EffectFit:
@@ -790,14 +792,18 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         verdict = "unexplained"
     else:
         verdict = "none"
-    periodic = None
+    periodic, periodic_share, decided = None, None, False
     if verdict != "unexplained":
         explaining = joint.model if verdict == "effect" and joint is not None else sc.base
         periodic = screw_periodic(sc, explaining)
-        verdict = open_set_verdict(sc, verdict, joint, periodic)
+        if periodic is not None and verdict == "effect" and joint is not None:
+            periodic_share = effects_share(sc, joint, periodic)
+        opened = open_set_verdict(verdict, periodic, periodic_share)
+        decided, verdict = opened != verdict, opened
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
-    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, periodic)
+    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, periodic,
+                   periodic_share, decided)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
@@ -810,24 +816,35 @@ def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
                               test=improvement_p)
 
 
-def open_set_verdict(sc: Scorer, verdict: str, joint: EffectFit | None, periodic: Periodic | None) -> str:
-    """The verdict once structure no catalog effect makes is accounted for (:mod:`.openset`).
+def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float:
+    """Share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP), :mod:`.openset`.
 
-    ``effect`` becomes ``unexplained`` when a significant screw-periodic torque removes more of the
-    explaining model's held-out error than the effects removed from the twin within its tolerance,
-    S_E - S_EP > S_W - S_E (the effects closed less than half of what is explainable); ``none``
-    becomes ``unexplained`` when that structure is significant and material in the twin within its
-    tolerance.
+    What the effects removed from the twin within its tolerance (all held-out rows), over that plus what
+    the screw-position harmonic removes from the effects' residual (moving torque rows).
+    """
+    by_effects = float(nominal_sse(sc).sum() - sc.cycle_sse(joint.model).sum())
+    by_harmonic = periodic.sse_before - periodic.sse_after
+    total = by_effects + by_harmonic
+    if total <= 0.0:  # the harmonic removes nothing (1) or the effects made the held-out residual worse (0)
+        return 0.0 if by_harmonic > 0.0 else 1.0
+    return by_effects / total
+
+
+def open_set_verdict(verdict: str, periodic: Periodic | None, share: float | None) -> str:
+    """The verdict once a torque depending on the screw position is accounted for (:mod:`.openset`).
+
+    ``effect`` becomes ``unexplained`` when the harmonic is significant and the effects close less than
+    half of the explainable error (``share`` < 1/2: the harmonic removes more of the effects' held-out
+    error than they removed from the twin within its tolerance); ``none`` becomes ``unexplained`` when
+    the harmonic is significant and material in the twin within its tolerance.
     """
     if periodic is None:
         return verdict
     level = ALPHA / HARMONICS
     if verdict == "none":
         return "unexplained" if periodic.counts(level) else verdict
-    if verdict == "effect" and joint is not None and periodic.p_value < level:
-        removed_by_effects = float(nominal_sse(sc).sum() - sc.cycle_sse(joint.model).sum())
-        if periodic.sse_before - periodic.sse_after > removed_by_effects:
-            return "unexplained"
+    if verdict == "effect" and share is not None and periodic.p_value < level and share < SHRINK_NEEDED:
+        return "unexplained"
     return verdict
 
 

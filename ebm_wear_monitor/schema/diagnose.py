@@ -155,6 +155,22 @@ class Where(Record):
 
 
 @dataclass(frozen=True)
+class PositionTorque(Record):
+    """A torque that depends on where the screw is, left by the verdict's model (diagnosis/openset.py)."""
+
+    harmonic: int = quantity("", "k: periods per screw revolution of the harmonic that fits best",
+                             json="harmonic")
+    amplitude_Nm: float = quantity("N m", "its amplitude at the motor", json="amplitude_Nm")
+    amplitude_std_Nm: float = quantity("N m", "standard deviation of the amplitude", json="amplitude_std_Nm")
+    floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque", json="floor_Nm")
+    p_value: float = quantity("-", "held-out improvement test of the harmonic", json="p_value")
+    effects_share: float | None = quantity(
+        "-", "share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP); "
+        "null without an effect", json="effects_share")
+    decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
+
+
+@dataclass(frozen=True)
 class NearTie(Record):
     """Two effects the held-out data do not tell apart, and the experiment that would."""
 
@@ -218,6 +234,9 @@ class DiagnosisResult(Record):
     noise: dict[str, float] = quantity(GIVEN, "white-noise std per signal in its SI unit (rad, rad/s, N, A)",
                                        json="noise")
     residual_method: str = quantity("", "how the residuals are formed", json="residual_method")
+    position_torque: PositionTorque | None = quantity(
+        "", "torque depending on the screw position left by the verdict's model (null: not tested)",
+        json="position_torque", default=None)
 
 
 @dataclass(frozen=True)

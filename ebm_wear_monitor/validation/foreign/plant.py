@@ -143,7 +143,8 @@ class Plant:
         t_d = self._kt * i - a.r_g * F
         for f in ph.drive_extra:
             t_d = t_d + f(th)
-        J_dt, inv_w = self._J_dt, self._inv_w
+        J_dt: float | np.ndarray = self._J_dt
+        inv_w: float | np.ndarray = self._inv_w
         if ph.backlash > 0.0:
             free = self._in_play()  # no flank engaged: no clamp load, screw-side friction and inertia
             t_d = np.where(free, self._kt * i, t_d)
