@@ -61,6 +61,12 @@ class Periodic:
     p_value: float  # held-out improvement test (:func:`.ranking.improvement_p`)
     sse_before: float  # held-out sum of z^2 of the model on the moving blocks
     sse_after: float  # the same with the harmonic removed
+    sin_cos: tuple[float, float] = (0.0, 0.0)  # (a_k, b_k) of a_k sin(k q) + b_k cos(k q) [N m]
+
+    def torque(self, angle: np.ndarray) -> np.ndarray:
+        """The fitted harmonic at screw angles ``angle`` [rad], in N m at the motor."""
+        a, b = self.sin_cos
+        return a * np.sin(self.harmonic * angle) + b * np.cos(self.harmonic * angle)
 
     def counts(self, level: float) -> bool:
         """Significant at ``level`` and material with 95 % confidence (module docstring)."""
@@ -108,4 +114,4 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     zb = z[heldout]
     za = zb - X[heldout] @ coef
     return Periodic(k, amp, float(np.sqrt(max(var, 0.0))), floor, test(zb, za),
-                    float(np.sum(zb**2)), float(np.sum(za**2)))
+                    float(np.sum(zb**2)), float(np.sum(za**2)), (a, b))

@@ -12,6 +12,9 @@ opens without network access); ``states`` are ``(unit diagnosis, scorer, ranking
   worth [A] (R_T / K_T, 004 eq. 7) and the force channel [N] (:mod:`.residuals`), one point per
   block against the time since the start of its phase; the residual, not an overlay of two signals
   that hides the gap under the signal;
+* the torque residual of the verdict's model against the screw angle with the fitted harmonic of the
+  open-set test (:mod:`.openset`): a torque that depends on where the screw is, which no catalog
+  effect makes;
 * the share of the held-out gap each catalog effect closes alone, with its size against its
   detectability floor (:mod:`.tolerance`);
 * the acquisition conventions estimated from the data (``nuisances``) in the units people read.
@@ -88,6 +91,37 @@ def residual_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any]:
     return jsonable({"data": data, "layout": layout})
 
 
+def position_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any] | None:
+    """The torque residual of the model the open-set test ran on (the selected effects, or the twin within
+    its tolerance) against the screw angle on the held-out moving blocks, with the fitted harmonic of
+    :mod:`.openset` (None when it was not tested)."""
+    p = ranking.periodic
+    if p is None:
+        return None
+    mdl, b = sc.model, sc.model.blocks
+    tested_on_effects = ranking.periodic_share is not None and ranking.joint is not None
+    m = ranking.joint.model if tested_on_effects and ranking.joint is not None else sc.base
+    rows = sc.split.heldout & b.moving
+    z = sc.z_raw(m.aug, np.ones(b.size, bool), ("torque",)) + sc.D[:b.size] @ m.t
+    c = np.concatenate(([0.0], np.cumsum(mdl.rec.angle)))
+    angle = (c[b.stop + 1] - c[b.start]) / (b.stop + 1 - b.start)  # block mean screw angle [rad]
+    grid = np.linspace(angle[rows].min(), angle[rows].max(), 400) if rows.any() else np.zeros(0)
+    label = ("twin with " + " + ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
+             if tested_on_effects else "twin within its tolerance")
+    colour = RED if ranking.periodic_decided else GREY
+    return jsonable({"data": [
+        {"type": "scattergl", "mode": "markers", "x": angle[rows].tolist(),
+         "y": (z[rows] * sc.sigma_torque[rows]).tolist(), "name": f"residual of the {label}",
+         "marker": {"size": 4, "color": BLUE, "opacity": 0.5}},
+        {"type": "scatter", "mode": "lines", "x": grid.tolist(), "y": p.torque(grid).tolist(),
+         "name": f"harmonic {p.harmonic} of the screw angle (p = {p.p_value:.2g})",
+         "line": {"color": colour, "width": 3}}],
+        "layout": {"template": "plotly_white", "height": 340, "margin": {"l": 70, "r": 20, "t": 10, "b": 50},
+                   "legend": {"orientation": "h", "y": -0.25},
+                   "xaxis": {"title": {"text": "screw angle as recorded [rad]"}},
+                   "yaxis": {"title": {"text": "recorded − model torque [N m]"}, "zeroline": True}}})
+
+
 def shrink_figure(fits: list[EffectFit]) -> dict:
     """The share of the held-out gap each effect closes alone, bars coloured by materiality."""
     names = [f.effect.name.replace("_", " ") for f in fits][::-1]
@@ -146,6 +180,7 @@ def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
               for kind, n in sorted(kinds.items())]
     return {"res": res, "light": VERDICT_CLASS[res.verdict], "words": VERDICT_WORDS[res.verdict],
             "residuals": residual_figure(sc, ranking), "shrink": shrink_figure(ranking.fits),
+            "position": position_figure(sc, ranking),
             "effects": effects, "nuisances": nuisances, "faults": faults,
             "json": json.dumps({k: v for k, v in u.to_json_dict().items()
                                 if k not in ("ranking", "where", "where_after")}, indent=1)}

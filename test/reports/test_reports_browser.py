@@ -108,7 +108,8 @@ def test_diagnose_report(repo, tmp_path, open_page):
     page = opened.page
     _assert_clean(opened, "diagnose report")
     page.wait_for_selector(".js-plotly-plot .main-svg")
-    assert page.locator(".js-plotly-plot").count() == 2  # residuals per phase, gap closed per effect
+    # residuals per phase, torque against the screw position, gap closed per effect
+    assert page.locator(".js-plotly-plot").count() == 3
     # the verdict in words, the effect table with sizes against floors, the estimated conventions
     assert page.locator(".card .status").first.inner_text().strip()
     assert page.locator("text=floor").count() >= 1 and page.locator("text=force-sensor lag").count() == 1
