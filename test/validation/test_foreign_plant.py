@@ -116,3 +116,29 @@ def test_stuck_plant_satisfies_the_static_friction_inequality() -> None:
     stays = np.abs(a.K_T * p.i - a.r_g * 20e3) <= a.T_fs + a.G * 20e3
     assert np.all((p.w == 0) == stays)
     assert stays.any() and (~stays).any()
+
+
+def test_inside_a_backlash_play_the_motor_carries_only_its_side() -> None:
+    """Crossing the play the motor accelerates against J_m + J_g and (1 - f_s) of the friction only
+    (no clamp load, the screw side decoupled): from rest under a constant current i the first speed
+    step is dt (K_T i - (1 - f_s) T_fc) / (J_m + J_g + dt (1 - f_s) B), and the screw stays put."""
+    from ebm_wear_monitor.validation.foreign.plant import Physics
+
+    b, share = 0.2, 0.6  # play [rad] (motor side), screw-side friction share [-]
+    p = Plant(ACT, np.full(1, 1e3), DT, physics=Physics(backlash=b, screw_friction_share=share),
+              gap0=np.full(1, 0.5 * b))  # start in the middle of the play
+    a = ACT
+    i_target = 2.0  # [A]
+    E = np.array([i_target * a.R])  # steady-state voltage for that current at rest
+    p.i = np.full(1, i_target)
+    p.step(E)
+    i_new = float(p.i[0])
+    keep = 1.0 - share
+    expected = DT * (a.K_T * i_new - keep * a.T_fc) / (a.J_m + a.J_g + DT * keep * a.B)
+    assert p.w[0] == pytest.approx(expected, rel=1e-9)
+    assert p.q[0] == 0.0  # the screw has not moved
+    # the lumped drive (no play) carries the whole friction and J_me: its first step is smaller
+    lumped = Plant(ACT, np.full(1, 1e3), DT)
+    lumped.i = np.full(1, i_target)
+    lumped.step(E)
+    assert lumped.w[0] < p.w[0]
