@@ -119,8 +119,8 @@ def summary(ranking: Ranking) -> str:
                 f"{100.0 * joint.shrink:.0f} % of the {gap}.")
     periodic = ranking.periodic
     if ranking.periodic_decided and periodic is not None:
-        torque = (f"a torque that depends on where the screw is (harmonic {periodic.harmonic} of the screw "
-                  f"angle, {1e3 * periodic.amplitude:.0f} ± {1e3 * periodic.amplitude_std:.0f} mN m)")
+        torque = (f"a torque that depends on where the screw is ({1e3 * periodic.rms:.0f} ± "
+                  f"{1e3 * periodic.rms_std:.0f} mN m RMS beyond force- and speed-shaped terms)")
         if ranking.periodic_share is None:
             return (f"The twin, even within its tolerance, misses {torque}, above 2 % of the motor torque "
                     f"({gap}); no known effect makes such a torque: an effect outside the catalog is likely.")
@@ -205,5 +205,5 @@ def position_torque(ranking: Ranking) -> PositionTorque | None:
     p = ranking.periodic
     if p is None:
         return None
-    return PositionTorque(p.harmonic, p.amplitude, p.amplitude_std, p.floor, p.p_value,
+    return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value,
                           ranking.periodic_share, ranking.periodic_decided)

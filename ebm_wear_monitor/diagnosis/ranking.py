@@ -695,6 +695,7 @@ class Ranking:
     periodic: Periodic | None = None  # torque depending on the screw position the verdict's model leaves
     periodic_share: float | None = None  # share of the explainable error the effects close (:mod:`.openset`)
     periodic_decided: bool = False  # the periodic structure turned the verdict into ``unexplained``
+    periodic_on_effects: bool = False  # it was tested on the selected effects' residual (else on W's)
 
     @property
     def top(self) -> EffectFit:
@@ -793,41 +794,47 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     else:
         verdict = "none"
     periodic, periodic_share, decided = None, None, False
+    on_effects = verdict == "effect" and joint is not None
     if verdict != "unexplained":
-        explaining = joint.model if verdict == "effect" and joint is not None else sc.base
-        periodic = screw_periodic(sc, explaining)
-        if periodic is not None and verdict == "effect" and joint is not None:
+        periodic = screw_periodic(sc, joint.model if on_effects and joint is not None else sc.base)
+        if periodic is not None and on_effects and joint is not None:
             periodic_share = effects_share(sc, joint, periodic)
         opened = open_set_verdict(verdict, periodic, periodic_share)
         decided, verdict = opened != verdict, opened
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
     return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, periodic,
-                   periodic_share, decided)
+                   periodic_share, decided, on_effects and periodic is not None)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
-    """Screw-angle periodic structure in the held-out torque residual of ``m`` (:mod:`.openset`)."""
+    """Torque depending on the screw position in the held-out torque residual of ``m`` (:mod:`.openset`),
+    beyond the catalog's own shapes: per direction of motion a constant, a term in the clamp force and
+    one in the speed (004 eq. 9's Coulomb, load and viscous terms, free per direction)."""
     mdl, b = sc.model, sc.model.blocks
     z = sc.z_raw(m.aug, np.ones(b.size, bool), ("torque",)) + sc.D[:b.size] @ m.t
-    return periodic_structure(mdl.rec.angle, b.start, b.stop, z, sigma=sc.sigma_torque,
+    forward = np.isin(b.phase, (Phase.CLEARANCE_ELIMINATION, Phase.FORCE_GENERATION)).astype(float)
+    backward = (b.phase == Phase.FORCE_RELEASE).astype(float)
+    shapes = np.column_stack([forward, backward, forward * b.force, backward * b.force,
+                              forward * b.speed, backward * b.speed])
+    return periodic_structure(mdl.rec.angle, b.start, b.stop, z, sigma=sc.sigma_torque, shapes=shapes,
                               calibration=sc.split.calibration & b.moving,
                               heldout=sc.split.heldout & b.moving, drive=mdl.drive_block(),
                               test=improvement_p)
 
 
-def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float:
+def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float | None:
     """Share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP), :mod:`.openset`.
 
     What the effects removed from the twin within its tolerance (all held-out rows), over that plus what
-    the screw-position harmonic removes from the effects' residual (moving torque rows).
+    the screw-position harmonic removes beyond the shape terms (moving torque rows); in [0, 1]; None when
+    the harmonic removes nothing (no share to speak of).
     """
     by_effects = float(nominal_sse(sc).sum() - sc.cycle_sse(joint.model).sum())
     by_harmonic = periodic.sse_before - periodic.sse_after
-    total = by_effects + by_harmonic
-    if total <= 0.0:  # the harmonic removes nothing (1) or the effects made the held-out residual worse (0)
-        return 0.0 if by_harmonic > 0.0 else 1.0
-    return by_effects / total
+    if by_harmonic <= 0.0:
+        return None
+    return float(np.clip(by_effects / (by_effects + by_harmonic), 0.0, 1.0)) if by_effects > 0.0 else 0.0
 
 
 def open_set_verdict(verdict: str, periodic: Periodic | None, share: float | None) -> str:

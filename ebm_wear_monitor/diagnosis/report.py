@@ -99,10 +99,8 @@ def position_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any] | None:
     if p is None:
         return None
     mdl, b = sc.model, sc.model.blocks
-    tested_on_effects = ranking.periodic_share is not None and ranking.joint is not None
-    m = ranking.joint.model if tested_on_effects and ranking.joint is not None else sc.base
+    tested_on_effects = ranking.periodic_on_effects
     rows = sc.split.heldout & b.moving
-    z = sc.z_raw(m.aug, np.ones(b.size, bool), ("torque",)) + sc.D[:b.size] @ m.t
     c = np.concatenate(([0.0], np.cumsum(mdl.rec.angle)))
     angle = (c[b.stop + 1] - c[b.start]) / (b.stop + 1 - b.start)  # block mean screw angle [rad]
     grid = np.linspace(angle[rows].min(), angle[rows].max(), 400) if rows.any() else np.zeros(0)
@@ -111,7 +109,7 @@ def position_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any] | None:
     colour = RED if ranking.periodic_decided else GREY
     return jsonable({"data": [
         {"type": "scattergl", "mode": "markers", "x": angle[rows].tolist(),
-         "y": (z[rows] * sc.sigma_torque[rows]).tolist(), "name": f"residual of the {label}",
+         "y": p.beyond[rows].tolist(), "name": f"residual of the {label} beyond force and speed terms",
          "marker": {"size": 4, "color": BLUE, "opacity": 0.5}},
         {"type": "scatter", "mode": "lines", "x": grid.tolist(), "y": p.torque(grid).tolist(),
          "name": f"harmonic {p.harmonic} of the screw angle (p = {p.p_value:.2g})",

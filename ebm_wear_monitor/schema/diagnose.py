@@ -158,15 +158,17 @@ class Where(Record):
 class PositionTorque(Record):
     """A torque that depends on where the screw is, left by the verdict's model (diagnosis/openset.py)."""
 
-    harmonic: int = quantity("", "k: periods per screw revolution of the harmonic that fits best",
-                             json="harmonic")
-    amplitude_Nm: float = quantity("N m", "its amplitude at the motor", json="amplitude_Nm")
-    amplitude_std_Nm: float = quantity("N m", "standard deviation of the amplitude", json="amplitude_std_Nm")
+    harmonic: int = quantity("", "k of the harmonic of the screw angle that fits best (over a stroke shorter "
+                             "than a turn: only a shape)", json="harmonic")
+    amplitude_Nm: float = quantity("N m", "its peak at the motor", json="amplitude_Nm")
+    rms_Nm: float = quantity("N m", "RMS of its contribution over the moving blocks", json="rms_Nm")
+    rms_std_Nm: float = quantity("N m", "standard deviation of that RMS", json="rms_std_Nm")
     floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque", json="floor_Nm")
-    p_value: float = quantity("-", "held-out improvement test of the harmonic", json="p_value")
+    p_value: float = quantity("-", "held-out improvement test beyond force- and speed-shaped terms",
+                              json="p_value")
     effects_share: float | None = quantity(
         "-", "share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP); "
-        "null without an effect", json="effects_share")
+        "null without an effect or when the harmonic removes nothing", json="effects_share")
     decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
 
 

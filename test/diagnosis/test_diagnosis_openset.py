@@ -1,18 +1,20 @@
-"""The open-set test of a screw-periodic torque (diagnosis/openset.py) against closed forms."""
+"""The open-set test of a torque depending on the screw position (diagnosis/openset.py): closed forms."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.diagnosis.openset import block_basis, periodic_structure
-from ebm_wear_monitor.diagnosis.ranking import improvement_p
+from ebm_wear_monitor.diagnosis.openset import Periodic, block_basis, periodic_structure
+from ebm_wear_monitor.diagnosis.ranking import improvement_p, open_set_verdict
+
+LEVEL = 0.05 / 4
 
 
-def _blocks(n_blocks: int = 600, per_block: int = 20, seed: int = 0):
+def _blocks(n_blocks: int = 600, per_block: int = 20, seed: int = 0, step: float = 0.02):
     """A screw turning through many revolutions (with an arbitrary encoder zero), cut into blocks."""
     rng = np.random.default_rng(seed)
-    angle = 123.4 + np.cumsum(rng.uniform(0.0, 0.02, n_blocks * per_block))  # [rad]
+    angle = 123.4 + np.cumsum(rng.uniform(0.0, step, n_blocks * per_block))  # [rad]
     start = np.arange(n_blocks) * per_block
     stop = start + per_block - 1
     cal = np.zeros(n_blocks, bool)
@@ -20,31 +22,58 @@ def _blocks(n_blocks: int = 600, per_block: int = 20, seed: int = 0):
     return angle, start, stop, cal, ~cal, rng
 
 
+def _shapes(n: int, rng: np.random.Generator) -> np.ndarray:
+    """Shape columns like ranking.screw_periodic's: direction indicators, force and speed per direction."""
+    forward = (np.arange(n) % 3 != 2).astype(float)
+    force = rng.uniform(0.0, 2e4, n)
+    speed = rng.uniform(1.0, 30.0, n)
+    return np.column_stack([forward, 1 - forward, forward * force, (1 - forward) * force,
+                            forward * speed, (1 - forward) * speed])
+
+
+def _run(angle, start, stop, z, sigma, cal, ho, shapes, drive=2.0):  # noqa: PLR0917
+    return periodic_structure(angle, start, stop, z, sigma=sigma, shapes=shapes, calibration=cal,
+                              heldout=ho, drive=np.full(start.size, drive), test=improvement_p)
+
+
+def _block_mean(f, angle, start, stop):
+    return np.array([np.mean(f(angle[a:b + 1])) for a, b in zip(start, stop, strict=True)])
+
+
 def test_block_basis_is_the_block_mean_of_the_harmonic():
     angle, start, stop, *_ = _blocks(10)
     X = block_basis(angle, start, stop, 3)
-    for j in range(10):
-        q = angle[start[j]:stop[j] + 1]
-        assert X[j, 0] == pytest.approx(np.sin(3 * q).mean(), abs=1e-12)
-        assert X[j, 1] == pytest.approx(np.cos(3 * q).mean(), abs=1e-12)
+    assert X[:, 0] == pytest.approx(_block_mean(lambda q: np.sin(3 * q), angle, start, stop), abs=1e-12)
+    assert X[:, 1] == pytest.approx(_block_mean(lambda q: np.cos(3 * q), angle, start, stop), abs=1e-12)
 
 
 @pytest.mark.parametrize("k", [1, 2, 3, 4])
-def test_a_periodic_torque_is_found_with_its_harmonic_and_amplitude(k):
+def test_a_periodic_torque_is_found_beyond_force_and_speed_terms(k):
     angle, start, stop, cal, ho, rng = _blocks(seed=k)
     sigma = np.full(start.size, 0.01)  # block noise [N m]
     amp, phi = 0.08, 1.1  # [N m], [rad]
-    true = np.array([np.mean(amp * np.sin(k * angle[a:b + 1] + phi))
-                     for a, b in zip(start, stop, strict=True)])
-    z = (true + rng.normal(0.0, 0.01, start.size)) / sigma
-    drive = np.full(start.size, 2.0)  # RMS motor torque 2 N m: materiality floor 2 % = 0.04 N m
-    p = periodic_structure(angle, start, stop, z, sigma=sigma, calibration=cal, heldout=ho, drive=drive,
-                           test=improvement_p)
+    shapes = _shapes(start.size, rng)
+    catalog_like = shapes @ np.array([0.1, -0.1, 2e-6, -1e-6, 1e-3, -1e-3])  # shaped like the catalog [N m]
+    true = _block_mean(lambda q: amp * np.sin(k * q + phi), angle, start, stop)
+    z = (true + catalog_like + rng.normal(0.0, 0.01, start.size)) / sigma
+    p = _run(angle, start, stop, z, sigma, cal, ho, shapes)
     assert p is not None and p.harmonic == k
     assert p.amplitude == pytest.approx(amp, rel=0.05)
-    assert p.floor == pytest.approx(0.04)
-    assert p.p_value < 1e-6 and p.counts(0.0125)
+    assert p.rms == pytest.approx(amp / np.sqrt(2), rel=0.08)  # many turns: RMS of a sinusoid
+    assert p.floor == pytest.approx(0.04)  # 2 % of 2 N m
+    assert p.p_value < 1e-6 and p.counts(LEVEL)
     assert p.sse_after < 0.2 * p.sse_before
+    # the terms shaped like the catalog are no position torque: their part is not in 'beyond'
+    assert np.std(p.beyond - true) < 0.02
+
+
+def test_catalog_shaped_torque_alone_is_not_counted():
+    angle, start, stop, cal, ho, rng = _blocks(seed=11, step=0.002)  # a short stroke: position ~ time
+    sigma = np.full(start.size, 0.01)
+    shapes = _shapes(start.size, rng)
+    z = (shapes @ np.array([0.2, -0.2, 3e-6, -2e-6, 2e-3, -2e-3]) + rng.normal(0.0, 0.01, start.size)) / sigma
+    p = _run(angle, start, stop, z, sigma, cal, ho, shapes)
+    assert p is not None and not p.counts(LEVEL) and p.p_value > LEVEL
 
 
 def test_noise_alone_is_not_counted():
@@ -53,20 +82,36 @@ def test_noise_alone_is_not_counted():
         angle, start, stop, cal, ho, rng = _blocks(seed=100 + seed)
         sigma = np.full(start.size, 0.01)
         z = rng.normal(0.0, 1.0, start.size)
-        p = periodic_structure(angle, start, stop, z, sigma=sigma, calibration=cal, heldout=ho,
-                           drive=np.full(start.size, 2.0), test=improvement_p)
+        p = _run(angle, start, stop, z, sigma, cal, ho, _shapes(start.size, rng))
         assert p is not None
-        hits += p.p_value < 0.0125
-        assert not p.counts(0.0125)  # far below the materiality floor
+        hits += p.p_value < LEVEL
+        assert not p.counts(LEVEL)  # far below the materiality floor
     assert hits <= 3  # the held-out test keeps its level (expected 0.5 of 40)
 
 
-def test_a_periodic_torque_below_the_materiality_floor_is_significant_but_not_counted():
+def test_a_torque_below_the_materiality_floor_is_significant_but_not_counted():
     angle, start, stop, cal, ho, rng = _blocks(seed=7)
     sigma = np.full(start.size, 0.002)
-    true = np.array([np.mean(0.02 * np.sin(2 * angle[a:b + 1])) for a, b in zip(start, stop, strict=True)])
+    true = _block_mean(lambda q: 0.02 * np.sin(2 * q), angle, start, stop)  # RMS 14 mN m < 40 mN m
     z = (true + rng.normal(0.0, 0.002, start.size)) / sigma
-    p = periodic_structure(angle, start, stop, z, sigma=sigma, calibration=cal, heldout=ho,
-                           drive=np.full(start.size, 2.0), test=improvement_p)
+    p = _run(angle, start, stop, z, sigma, cal, ho, _shapes(start.size, rng))
     assert p is not None and p.p_value < 1e-6
-    assert not p.counts(0.0125)  # 0.02 N m < 2 % of 2 N m
+    assert not p.counts(LEVEL)
+
+
+def _periodic(p_value: float, rms: float) -> Periodic:
+    return Periodic(1, rms * np.sqrt(2), rms, 0.001, 0.04, p_value, 100.0, 50.0)
+
+
+@pytest.mark.parametrize(("verdict", "p_value", "rms", "share", "expected"), [
+    ("effect", 1e-9, 0.1, 0.3, "unexplained"),  # significant, effects close less than half
+    ("effect", 1e-9, 0.1, 0.7, "effect"),  # effects close most of what is explainable
+    ("effect", 0.2, 0.1, 0.1, "effect"),  # not significant
+    ("effect", 1e-9, 0.1, None, "effect"),  # the harmonic removes nothing
+    ("none", 1e-9, 0.1, None, "unexplained"),  # significant and material in the tolerant twin
+    ("none", 1e-9, 0.01, None, "none"),  # significant but below the materiality floor
+    ("unexplained", 1.0, 0.0, None, "unexplained"),
+])
+def test_open_set_verdict_rules(verdict, p_value, rms, share, expected):
+    assert open_set_verdict(verdict, _periodic(p_value, rms), share) == expected
+    assert open_set_verdict(verdict, None, share) == verdict
