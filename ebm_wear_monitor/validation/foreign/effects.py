@@ -36,8 +36,10 @@ standstill, to the static level ``C_s`` too (004 eq. 9 structure).
 | friction_drift (outside) | rising / warming | ``C_k, C_s`` times ``m_k`` per application (drifting) |
 
 In the backlash play the motor is decoupled from what lies past the gear mesh: it carries only its
-own and the gear's inertia and the friction share ``1 - f_s`` (``f_s`` drawn in 0.5-0.8: the
-screw-nut preload and the support bearing make most of a ball-screw drive's no-load friction).
+own and the gear's inertia and the share ``1 - f_s`` of the whole friction, eq. 9's levels and any
+friction effect's (``f_s`` drawn in 0.5-0.8: the screw-nut preload and the support bearing make most
+of a ball-screw drive's no-load friction). For the reference unit J_m + J_g is 99.97 % of J_me, so
+in practice only the friction share makes the play visible.
 
 Stribeck and Coulomb-only preload forms keep ``C_s >= C_k`` at standstill (``C_s`` raised by
 ``max(0, C_k(0) - T_fs)``): friction cannot exceed its breakaway level.
