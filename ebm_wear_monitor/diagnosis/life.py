@@ -28,7 +28,7 @@ told apart from clearance alone: they are always reported as a near-tie, to be
 separated by measuring the balls at teardown.  Held-out points (every second
 summary), noise from the second differences of x (:func:`.noise.signal_noise`),
 an offset (the noisy first clearance reading) fitted with every model,
-score and test as in :mod:`.ranking` (:func:`.ranking.improvement_p`).
+score and test as in :mod:`.ranking` (:func:`.heldout.improvement_p`).
 """
 
 from __future__ import annotations
@@ -38,8 +38,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.noise import signal_noise
-from ebm_wear_monitor.diagnosis.ranking import ALPHA, TIE_ALPHA, improvement_p
+from ebm_wear_monitor.diagnosis.ranking import ALPHA, TIE_ALPHA
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.schema.diagnose import LifeDiagnosis, LifeFit
 

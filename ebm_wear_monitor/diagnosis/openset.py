@@ -25,7 +25,7 @@ the twin within its tolerance when none is selected) is normalised by its block 
 regressors are divided by sigma too, so coefficients are in N m. The shape terms alone, then the shape
 terms with each harmonic, are fitted to z on the calibration blocks; the harmonic that lowers the
 calibration sum of z^2 most is judged on the held-out blocks (shape terms and harmonic as fitted on
-calibration) with the test of :func:`.ranking.improvement_p` at level alpha / K (conservative: k is
+calibration) with the test of :func:`.heldout.improvement_p` at level alpha / K (conservative: k is
 chosen on calibration data only), both residuals divided by the held-out RMS after the fit when it
 exceeds 1 (the test assumes unit variance; a model error inflates it). The harmonic is *material*
 when the RMS of its contribution over the moving blocks exceeds, with 95 % confidence
@@ -44,16 +44,16 @@ closed less than half of the error that is explainable and the verdict ``effect`
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ebm_wear_monitor.diagnosis import tolerance
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
+from ebm_wear_monitor.diagnosis.residuals import block_mean
 
 #: harmonics of the screw angle tried (per screw revolution)
 HARMONICS = 4
-MATERIAL_Z = 1.6448536269514722  # one-sided 95 % normal quantile
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ class Periodic:
     rms: float  # RMS of its block contribution over the moving blocks [N m]: what materiality judges
     rms_std: float  # standard deviation of that RMS [N m]
     floor: float  # materiality bound of the torque channel [N m]
-    p_value: float  # held-out improvement test beyond the shape terms (:func:`.ranking.improvement_p`)
+    p_value: float  # held-out improvement test beyond the shape terms (:func:`.heldout.improvement_p`)
     sse_before: float  # held-out sum of z^2 on the moving blocks after the shape terms
     sse_after: float  # the same with the harmonic added
     sin_cos: tuple[float, float] = (0.0, 0.0)  # (a_k, b_k) of a_k sin(k q) + b_k cos(k q) [N m]
@@ -84,11 +84,7 @@ class Periodic:
 
 def block_basis(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, k: int) -> np.ndarray:
     """Block means of sin(k q) and cos(k q) over samples ``start .. stop`` (inclusive), shape (blocks, 2)."""
-    cols = []
-    for f in (np.sin, np.cos):
-        c = np.concatenate(([0.0], np.cumsum(f(k * angle))))
-        cols.append((c[stop + 1] - c[start]) / (stop + 1 - start))
-    return np.stack(cols, axis=1)
+    return np.stack([block_mean(f(k * angle), start, stop) for f in (np.sin, np.cos)], axis=1)
 
 
 def _lstsq(A: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -98,8 +94,7 @@ def _lstsq(A: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z: np.ndarray, *,
                        sigma: np.ndarray, shapes: np.ndarray, calibration: np.ndarray,
-                       heldout: np.ndarray, drive: np.ndarray,
-                       test: Callable[[np.ndarray, np.ndarray], float]) -> Periodic | None:
+                       heldout: np.ndarray, drive: np.ndarray) -> Periodic | None:
     """The test of the module docstring on the moving blocks' torque rows.
 
     ``angle``: screw angle per sample [rad]; ``start``/``stop``: sample range of each block;
@@ -107,8 +102,7 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     catalog-shaped terms per block (columns in N m per unit, e.g. the force and the direction: see
     :func:`.ranking.screw_periodic`), fitted with every harmonic so that the harmonic counts only
     beyond them; ``calibration``/``heldout``: masks of the moving blocks of each side; ``drive``: block
-    mean of the motor torque [N m]; ``test(z_before, z_after)``: the held-out improvement's p-value
-    (:func:`.ranking.improvement_p`). None when a side has too few blocks for the columns.
+    mean of the motor torque [N m]. None when a side has too few blocks for the columns.
     """
     ncol = shapes.shape[1] + 2
     if calibration.sum() < 4 * ncol or heldout.sum() < 4 * ncol:
@@ -142,5 +136,5 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     za = z[heldout] - A[heldout] @ coef  # ... and with the harmonic
     scale = max(1.0, float(np.sqrt(np.mean(za * za))))  # the test assumes unit variance: not below it
     beyond = (z - S @ coef[2:]) * sigma
-    return Periodic(k, float(np.hypot(a, b)), rms, rms_std, floor, test(zb / scale, za / scale),
+    return Periodic(k, float(np.hypot(a, b)), rms, rms_std, floor, improvement_p(zb / scale, za / scale),
                     float(np.sum(zb**2)), float(np.sum(za**2)), (a, b), beyond)

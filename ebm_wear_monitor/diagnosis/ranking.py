@@ -48,7 +48,7 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when the effect is
     absent.  U = (S_before - S_after) / (2 |delta|) is thus at most standard normal under
     "absent", and the effect passes when its one-sided p-value is below 0.05 / K
-    (Bonferroni over the K effects tried; :func:`improvement_p`).  (A goodness-of-fit test of
+    (Bonferroni over the K effects tried; :func:`.heldout.improvement_p`).  (A goodness-of-fit test of
     the before model where the effect acts was tried as a second guard: against the twin
     within its tolerance it rejected a +100 % viscous change on the twin's own data; the
     practical test (b) is the guard against significant but immaterial structure.)
@@ -101,6 +101,7 @@ from scipy import optimize, stats
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.residuals import (
@@ -121,7 +122,6 @@ ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
 METRIC = "excess_rms_over_noise"
-MATERIAL_Z = 1.6448536269514722  # one-sided 95 % normal quantile: an effect exceeds its floor with confidence
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
 FORCE_LAG_S = 5e-3  # largest first-order lag of the force reading considered [s]
 
@@ -554,7 +554,7 @@ class EffectFit:
     shrink: float  # share of the held-out gap it closes, 1 - gap_after / gap_before
     d_cycles: np.ndarray  # held-out S_before,c - S_after,c per cycle
     z_heldout: np.ndarray  # held-out normalised residual with the effect
-    p_value: float = 1.0  # one-sided test of a held-out improvement (:func:`improvement_p`)
+    p_value: float = 1.0  # one-sided test of a held-out improvement (:func:`.heldout.improvement_p`)
     size: float = 0.0  # size in the effect's own unit (:mod:`.catalog`)
     size_std: float = 0.0
     floor: float = 0.0  # detectability floor of the size (:mod:`.tolerance`)
@@ -652,21 +652,6 @@ def contribution(sc: Scorer, effect: Effect, theta: np.ndarray) -> float:
             d = mdl.force_residual(NOMINAL)[rows] - mdl.force_residual(aug)[rows]
             out = max(out, float(np.sqrt(np.mean(d * d)) / max(np.sqrt(np.mean(b.force[rows] ** 2)), 1e-12)))
     return out
-
-
-def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
-    """One-sided p-value of "the correction lowers the held-out residual" (module docstring).
-
-    With delta = z_before - z_after fixed by the calibration fit and held-out noise z ~ N(0, 1),
-    S_before - S_after = 2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when
-    the effect is absent; U = (S_before - S_after) / (2 sqrt(sum(delta^2))) is compared with N(0, 1).
-    """
-    delta = z_before - z_after
-    norm = float(np.sqrt(np.sum(delta * delta)))
-    if norm == 0.0:
-        return 1.0
-    u = float(np.sum(z_before**2 - z_after**2)) / (2.0 * norm)
-    return float(stats.norm.sf(u))
 
 
 def tie_p(a: EffectFit, b: EffectFit) -> float:
@@ -819,8 +804,7 @@ def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
                               forward * b.speed, backward * b.speed])
     return periodic_structure(mdl.rec.angle, b.start, b.stop, z, sigma=sc.sigma_torque, shapes=shapes,
                               calibration=sc.split.calibration & b.moving,
-                              heldout=sc.split.heldout & b.moving, drive=mdl.drive_block(),
-                              test=improvement_p)
+                              heldout=sc.split.heldout & b.moving, drive=mdl.drive_block())
 
 
 def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float | None:
@@ -830,7 +814,7 @@ def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float | N
     the screw-position harmonic removes beyond the shape terms (moving torque rows); in [0, 1]; None when
     the harmonic removes nothing (no share to speak of).
     """
-    by_effects = float(nominal_sse(sc).sum() - sc.cycle_sse(joint.model).sum())
+    by_effects = float(joint.d_cycles.sum())  # S_W - S_E, held out per cycle (:func:`evaluate`)
     by_harmonic = periodic.sse_before - periodic.sse_after
     if by_harmonic <= 0.0:
         return None

@@ -101,8 +101,7 @@ def position_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any] | None:
     mdl, b = sc.model, sc.model.blocks
     tested_on_effects = ranking.periodic_on_effects
     rows = sc.split.heldout & b.moving
-    c = np.concatenate(([0.0], np.cumsum(mdl.rec.angle)))
-    angle = (c[b.stop + 1] - c[b.start]) / (b.stop + 1 - b.start)  # block mean screw angle [rad]
+    angle = b.mean(mdl.rec.angle)  # block mean screw angle [rad]
     grid = np.linspace(angle[rows].min(), angle[rows].max(), 400) if rows.any() else np.zeros(0)
     label = ("twin with " + " + ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
              if tested_on_effects else "twin within its tolerance")

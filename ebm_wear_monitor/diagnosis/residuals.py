@@ -186,6 +186,13 @@ def first_order_lag(u: np.ndarray, tau: float, dt: float) -> np.ndarray:
     return lfilter([1.0 - a], [1.0, -a], u, zi=[a * u[0]])[0]
 
 
+def block_mean(y: np.ndarray, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
+    """Mean of the per-sample ``y`` over the samples ``start .. stop`` (inclusive) of each block."""
+    c = np.concatenate(([0.0], np.cumsum(y, dtype=float)))
+    mean: np.ndarray = (c[stop + 1] - c[start]) / (stop - start + 1).astype(float)
+    return mean
+
+
 @dataclass(frozen=True)
 class Blocks:
     """Blocks of samples [start, stop] (end points shared by neighbours) inside one phase run of one cycle."""
@@ -202,6 +209,10 @@ class Blocks:
     @property
     def size(self) -> int:
         return int(self.start.size)
+
+    def mean(self, y: np.ndarray) -> np.ndarray:
+        """Block mean of the per-sample ``y`` (:func:`block_mean`)."""
+        return block_mean(y, self.start, self.stop)
 
 
 def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving: np.ndarray,
@@ -223,11 +234,9 @@ def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving:
         raise InputError("no phase run long enough for the diagnosis")
     start = np.concatenate(starts)
     stop = np.concatenate(stops)
-    cum = lambda y: np.concatenate(([0.0], np.cumsum(y, dtype=float)))  # noqa: E731
-    n = (stop - start + 1).astype(float)
-    mean = lambda c: (c[stop + 1] - c[start]) / n  # noqa: E731
     return Blocks(start, stop, seg.phase[start], seg.cycle[start], np.concatenate(runs),
-                  mean(cum(moving)) >= 0.5, mean(cum(np.abs(speed))), mean(cum(force)))
+                  block_mean(moving, start, stop) >= 0.5, block_mean(np.abs(speed), start, stop),
+                  block_mean(force, start, stop))
 
 
 class ResidualModel:
@@ -260,7 +269,6 @@ class ResidualModel:
         b = self.blocks
         self._dt_block = rec.t[b.stop] - rec.t[b.start]
         self._dw_block = self.w_m[b.stop] - self.w_m[b.start]
-        self._n_block = (b.stop - b.start + 1).astype(float)
         self.unresolved_torque = self._unresolved_torque()
         self.ambiguous_torque = self._ambiguous_torque()
         self.drive_torque_nominal = nominal.torque_constant * rec.current  # 004 eq. 7 [N m]
@@ -380,9 +388,7 @@ class ResidualModel:
 
     def drive_block(self) -> np.ndarray:
         """Block mean of the motor torque K_T I [N m] (the scale of the torque channel)."""
-        b = self.blocks
-        c = np.concatenate(([0.0], np.cumsum(self.drive_torque_nominal)))
-        return (c[b.stop + 1] - c[b.start]) / self._n_block
+        return self.blocks.mean(self.drive_torque_nominal)
 
     # ----------------------------------------------------------------- block residuals
     def _net_integral(self, aug: Augment) -> np.ndarray:
@@ -400,9 +406,7 @@ class ResidualModel:
 
     def force_residual(self, aug: Augment) -> np.ndarray:
         """R_F per block: mean tared reading minus the model's [N]."""
-        b = self.blocks
-        cf = np.concatenate(([0.0], np.cumsum(self.force - self.force_model(aug))))
-        return (cf[b.stop + 1] - cf[b.start]) / self._n_block
+        return self.blocks.mean(self.force - self.force_model(aug))
 
     def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
         """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N])."""

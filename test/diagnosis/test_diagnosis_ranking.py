@@ -15,8 +15,9 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
+from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
-from ebm_wear_monitor.diagnosis.ranking import Scorer, fit, improvement_p, rank, split_by_cycle
+from ebm_wear_monitor.diagnosis.ranking import Scorer, fit, rank, split_by_cycle
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit

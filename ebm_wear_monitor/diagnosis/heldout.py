@@ -1,0 +1,28 @@
+"""The held-out test every diagnosis decision uses: does a correction fitted on calibration cycles lower
+the residual of the held-out ones more than noise would (:mod:`.ranking` for the effects, :mod:`.life`
+for the wear-level effects, :mod:`.openset` for a torque depending on the screw position)?
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import stats
+
+#: one-sided 95 % normal quantile: a size exceeds its detectability floor with 95 % confidence when
+#: size - MATERIAL_Z std > floor (practical significance, :mod:`.tolerance`)
+MATERIAL_Z = 1.6448536269514722
+
+
+def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
+    """One-sided p-value of "the correction lowers the held-out residual".
+
+    With delta = z_before - z_after fixed by the calibration fit and held-out noise z ~ N(0, 1),
+    S_before - S_after = 2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when
+    the correction is absent; U = (S_before - S_after) / (2 sqrt(sum(delta^2))) is compared with N(0, 1).
+    """
+    delta = z_before - z_after
+    norm = float(np.sqrt(np.sum(delta * delta)))
+    if norm == 0.0:
+        return 1.0
+    u = float(np.sum(z_before**2 - z_after**2)) / (2.0 * norm)
+    return float(stats.norm.sf(u))
