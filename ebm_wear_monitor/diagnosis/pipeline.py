@@ -117,15 +117,15 @@ def summary(ranking: Ranking) -> str:
         assert joint is not None  # an "effect" verdict rests on the selected effects fitted together
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
                 f"{100.0 * joint.shrink:.0f} % of the {gap}.")
-    periodic = ranking.periodic
-    if ranking.periodic_decided and periodic is not None:
-        torque = (f"a torque that depends on where the screw is ({1e3 * periodic.rms:.0f} ± "
-                  f"{1e3 * periodic.rms_std:.0f} mN m RMS beyond force- and speed-shaped terms)")
-        if ranking.periodic_share is None:
+    o = ranking.open_set
+    if o is not None and o.decided:
+        torque = (f"a torque that depends on where the screw is ({1e3 * o.periodic.rms:.0f} ± "
+                  f"{1e3 * o.periodic.rms_std:.0f} mN m RMS beyond force- and speed-shaped terms)")
+        if o.share is None:
             return (f"The twin, even within its tolerance, misses {torque}, above 2 % of the motor torque "
                     f"({gap}); no known effect makes such a torque: an effect outside the catalog is likely.")
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-        return (f"The best known effects ({named}) close only {100.0 * ranking.periodic_share:.0f} % of the "
+        return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
                 f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
                 "the catalog is likely.")
     if ranking.verdict == "unexplained":
@@ -202,8 +202,8 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
 
 def position_torque(ranking: Ranking) -> PositionTorque | None:
     """The screw-position harmonic the verdict's model leaves (:mod:`.openset`), as reported."""
-    p = ranking.periodic
-    if p is None:
+    o = ranking.open_set
+    if o is None:
         return None
-    return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value,
-                          ranking.periodic_share, ranking.periodic_decided)
+    p = o.periodic
+    return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.decided)

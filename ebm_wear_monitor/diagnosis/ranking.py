@@ -664,6 +664,16 @@ def tie_p(a: EffectFit, b: EffectFit) -> float:
     return float(2.0 * stats.norm.sf(abs(u)))
 
 
+@dataclass(frozen=True)
+class OpenSet:
+    """The open-set test of the verdict's model (:mod:`.openset`, :func:`open_set_verdict`)."""
+
+    periodic: Periodic  # the screw-position harmonic its held-out torque residual leaves
+    on_effects: bool  # tested on the selected effects' residual (else on the twin within its tolerance)
+    share: float | None  # share of the explainable error the effects close (:func:`effects_share`)
+    decided: bool  # it turned the verdict into ``unexplained``
+
+
 @dataclass
 class Ranking:
     """The outcome of :func:`rank`."""
@@ -677,10 +687,7 @@ class Ranking:
     unexplained_share: dict[str, float]  # W's model error beyond the noise per channel (Scorer method)
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
-    periodic: Periodic | None = None  # torque depending on the screw position the verdict's model leaves
-    periodic_share: float | None = None  # share of the explainable error the effects close (:mod:`.openset`)
-    periodic_decided: bool = False  # the periodic structure turned the verdict into ``unexplained``
-    periodic_on_effects: bool = False  # it was tested on the selected effects' residual (else on W's)
+    open_set: OpenSet | None = None  # the screw-position test of the verdict's model (None: not tested)
 
     @property
     def top(self) -> EffectFit:
@@ -778,18 +785,18 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         verdict = "unexplained"
     else:
         verdict = "none"
-    periodic, periodic_share, decided = None, None, False
-    on_effects = verdict == "effect" and joint is not None
-    if verdict != "unexplained":
-        periodic = screw_periodic(sc, joint.model if on_effects and joint is not None else sc.base)
-        if periodic is not None and on_effects and joint is not None:
-            periodic_share = effects_share(sc, joint, periodic)
-        opened = open_set_verdict(verdict, periodic, periodic_share)
-        decided, verdict = opened != verdict, opened
+    open_set = None
+    explaining = joint if verdict == "effect" else None
+    periodic = screw_periodic(sc, sc.base if explaining is None else explaining.model) \
+        if verdict != "unexplained" else None
+    if periodic is not None:
+        share_closed = effects_share(explaining, periodic) if explaining is not None else None
+        opened = open_set_verdict(verdict, periodic, share_closed)
+        open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
+        verdict = opened
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
-    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, periodic,
-                   periodic_share, decided, on_effects and periodic is not None)
+    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
@@ -807,7 +814,7 @@ def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
                               heldout=sc.split.heldout & b.moving, drive=mdl.drive_block())
 
 
-def effects_share(sc: Scorer, joint: EffectFit, periodic: Periodic) -> float | None:
+def effects_share(joint: EffectFit, periodic: Periodic) -> float | None:
     """Share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP), :mod:`.openset`.
 
     What the effects removed from the twin within its tolerance (all held-out rows), over that plus what

@@ -95,17 +95,16 @@ def position_figure(sc: Scorer, ranking: Ranking) -> dict[str, Any] | None:
     """The torque residual of the model the open-set test ran on (the selected effects, or the twin within
     its tolerance) against the screw angle on the held-out moving blocks, with the fitted harmonic of
     :mod:`.openset` (None when it was not tested)."""
-    p = ranking.periodic
-    if p is None:
+    o = ranking.open_set
+    if o is None:
         return None
-    mdl, b = sc.model, sc.model.blocks
-    tested_on_effects = ranking.periodic_on_effects
+    p, mdl, b = o.periodic, sc.model, sc.model.blocks
     rows = sc.split.heldout & b.moving
     angle = b.mean(mdl.rec.angle)  # block mean screw angle [rad]
     grid = np.linspace(angle[rows].min(), angle[rows].max(), 400) if rows.any() else np.zeros(0)
     label = ("twin with " + " + ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-             if tested_on_effects else "twin within its tolerance")
-    colour = RED if ranking.periodic_decided else GREY
+             if o.on_effects else "twin within its tolerance")
+    colour = RED if o.decided else GREY
     return jsonable({"data": [
         {"type": "scattergl", "mode": "markers", "x": angle[rows].tolist(),
          "y": p.beyond[rows].tolist(), "name": f"residual of the {label} beyond force and speed terms",
