@@ -7,7 +7,8 @@ one :class:`~ebm_wear_monitor.monitor.wire.Batch` per unit: per signal the
 header stamps [ns] (int64, exact) or, with ``stamps="log"``, the bag's log
 times, and the values, in storage order (the order the recorder received them:
 late, duplicated and interleaved samples reach the core as they were
-recorded). Memory is bounded by one storage chunk, whatever the length.
+recorded). Memory is bounded by a few storage chunks, whatever the length:
+each storage is read a few chunks ahead by a worker thread (:mod:`.ahead`).
 
 Storage files are read one after the other in order of their first log time.
 When the files of a unit overlap in log time (two recorders), they are merged
@@ -34,7 +35,8 @@ fine: it is skipped and listed in :attr:`BagReader.rejected`.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import ExitStack, closing
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -42,6 +44,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from ebm_wear_monitor.bagio.ahead import read_ahead
 from ebm_wear_monitor.bagio.storage import Chunk, Records, Storage, open_storage
 from ebm_wear_monitor.domain.recording import Recording, Signal
 from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, split_topic
@@ -260,14 +263,24 @@ class BagReader:
         return groups
 
     def _plain(self, src: _Source) -> Iterator[tuple[dict[str, Batch], int]]:
-        for chunk in src.store.chunks(set(src.chosen), self.log_stamps):
+        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps)):
             yield self._decode_chunk(src, chunk)[0], chunk.progress
         self.problems += src.store.problems
         src.store.problems = []
 
     def _merged(self, group: list[_Source]) -> Iterator[tuple[dict[str, Batch], int]]:
         """Records of overlapping sources, merged by log time (each source's own order kept)."""
-        streams = [iter(s.store.chunks(set(s.chosen), True)) for s in group]
+        with ExitStack() as stack:  # an early stop of the caller stops every read-ahead worker
+            streams = [stack.enter_context(closing(read_ahead(s.store.chunks(set(s.chosen), True))))
+                       for s in group]
+            yield from self._merge(group, streams)
+        for src in group:
+            self.problems += src.store.problems
+            src.store.problems = []
+
+    def _merge(self, group: list[_Source], streams: Sequence[Iterator[Chunk]]
+               ) -> Iterator[tuple[dict[str, Batch], int]]:
+        """The merge of :meth:`_merged` over each source's chunk stream."""
         pending: list[dict[tuple[str, str], tuple[np.ndarray, ...]]] = [{} for _ in group]
         newest = [np.iinfo(np.int64).min] * len(group)
         alive = [True] * len(group)
@@ -303,9 +316,6 @@ class BagReader:
                 out.setdefault(unit, Batch()).add(signal, np.concatenate([a[0] for a in pieces])[order],
                                                   np.concatenate([a[1] for a in pieces])[order])
             yield out, progress
-        for src in group:
-            self.problems += src.store.problems
-            src.store.problems = []
 
     def _decode_chunk(self, src: _Source, chunk: Chunk
                       ) -> tuple[dict[str, Batch], dict[tuple[str, str], tuple[np.ndarray, ...]]]:

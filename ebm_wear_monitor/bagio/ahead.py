@@ -1,0 +1,70 @@
+"""Read-ahead: a storage's chunks read by a worker thread while the caller works on the previous ones.
+
+Reading a chunk is mostly work that does not hold Python's global interpreter
+lock (sqlite3 stepping through rows and concatenating their blobs, zstd or lz4
+decompressing an mcap chunk, file reads), so on a machine with a second core it
+overlaps with the monitor core that consumes the chunks: the replay's wall time
+tends to max(read, core) instead of read + core. On one core nothing is gained
+and nothing is lost but a thread switch per chunk. (rosbag2's own player reads
+ahead into a queue the same way.)
+
+Memory stays bounded: at most ``depth`` chunks wait in the queue, plus the one
+being read. Order is the storage's order (one producer, a FIFO queue). An
+exception raised while reading reaches the caller at the point of the chunk
+that failed; a caller that stops early (``close``, ``break``, an exception of
+its own) stops the worker and the storage's generator before it returns.
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+from collections.abc import Generator, Iterator
+from typing import TypeVar
+
+T = TypeVar("T")
+
+_END = object()  # the worker's last item: the storage is exhausted (or failed: the exception follows)
+_POLL_S = 0.05  # how often a worker blocked on a full queue checks whether the caller stopped [s]
+
+
+def read_ahead(items: Iterator[T], depth: int = 2) -> Generator[T, None, None]:
+    """Yield ``items`` in order, produced by a worker thread up to ``depth`` items ahead (module doc)."""
+    box: queue.Queue[tuple[object, BaseException | None]] = queue.Queue(maxsize=depth)
+    stop = threading.Event()
+
+    def put(entry: tuple[object, BaseException | None]) -> bool:
+        while not stop.is_set():
+            try:
+                box.put(entry, timeout=_POLL_S)
+                return True
+            except queue.Full:
+                continue
+        return False
+
+    def work() -> None:
+        try:
+            for item in items:
+                if not put((item, None)):
+                    return
+            put((_END, None))
+        except BaseException as exc:  # handed to the caller, who raises it where the chunk was due
+            put((_END, exc))
+        finally:
+            close = getattr(items, "close", None)
+            if close is not None:
+                close()
+
+    worker = threading.Thread(target=work, name="bag-read-ahead", daemon=True)
+    worker.start()
+    try:
+        while True:
+            item, exc = box.get()
+            if item is _END:
+                if exc is not None:
+                    raise exc
+                return
+            yield item  # type: ignore[misc]  # every other entry is an item of ``items``
+    finally:
+        stop.set()
+        worker.join()
