@@ -9,7 +9,8 @@ twin, tiled to ``--seconds`` of data) is written in sqlite3 and in mcap storage
 * bulk read: ``bagio.BagReader`` alone (storage chunks decoded by ``monitor.wire``);
 * replay: ``replay.run.replay_bags`` = streaming read + the monitor core through
   its Feeder + per-application history, i.e. ``ebm-wear replay`` without printing
-  (warm: the wear model's table is built once before timing).
+  (warm: the wear model's table is built once before timing); and the same with
+  ``read_ahead=0`` (everything in one thread, as a fleet worker reads).
 
 Printed: messages per second of each and the ratio replay / raw read (issue 12
 target: >= 1.5 on both storages), from wall time and from the process's CPU time.
@@ -100,13 +101,15 @@ def ratios(args) -> None:
             raw_s, raw_cpu, count = best(lambda b=bag: raw_read(b), args.repeat)
             bulk_s, _, got = best(lambda b=bag: bulk_read(b), args.repeat)
             rep_s, rep_cpu, res = best(lambda b=bag: replay_bags([b], unit), args.repeat)
+            one_s, one_cpu, _ = best(lambda b=bag: replay_bags([b], unit, read_ahead=0), args.repeat)
             assert got == count, (got, count)
-            raw, bulk, rep = count / raw_s, count / bulk_s, count / rep_s
+            raw, bulk, rep, one = count / raw_s, count / bulk_s, count / rep_s, count / one_s
             print(f"{storage}: raw read (rosbags) {raw / 1e3:.0f} k msg/s | bulk read {bulk / 1e3:.0f} k "
                   f"msg/s ({bulk / raw:.2f}x) | replay {rep / 1e3:.0f} k msg/s, "
                   f"{res.units[0].snapshot.duty_cycles} applications\n"
                   f"    replay / raw read = {rep / raw:.2f} wall time, {raw_cpu / rep_cpu:.2f} CPU time "
-                  "(target >= 1.5; CPU: one core)")
+                  "(target >= 1.5; CPU: one core)\n"
+                  f"    without read-ahead (one thread): {one / raw:.2f} wall, {raw_cpu / one_cpu:.2f} CPU")
 
 
 def write_long(path: Path, messages: int, storage: str, unit) -> int:

@@ -29,7 +29,11 @@ _POLL_S = 0.05  # how often a worker blocked on a full queue checks whether the 
 
 
 def read_ahead(items: Iterator[T], depth: int = 2) -> Generator[T, None, None]:
-    """Yield ``items`` in order, produced by a worker thread up to ``depth`` items ahead (module doc)."""
+    """Yield ``items`` in order, produced by a worker thread up to ``depth`` items ahead (module doc);
+    ``depth`` 0: read in the caller's thread."""
+    if depth <= 0:
+        yield from items
+        return
     box: queue.Queue[tuple[object, BaseException | None]] = queue.Queue(maxsize=depth)
     stop = threading.Event()
 

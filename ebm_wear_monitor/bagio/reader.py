@@ -132,15 +132,19 @@ class BagReader:
         strict: damage found in a storage (lost messages) raises instead of being counted.
         failed: when given, bags that cannot be opened are skipped and their one-line reasons
             stored here (``failed[str(path)]``); otherwise the first one raises.
+        read_ahead: chunks each storage is read ahead by a worker thread (:mod:`.ahead`); 0 reads in
+            the caller's thread (for a process that already has every core busy: a fleet worker).
     """
 
     def __init__(self, paths: Iterable[str | os.PathLike], *, signals: Iterable[str] | None = None,
-                 stamps: str = "header", strict: bool = False, failed: dict[str, str] | None = None):
+                 stamps: str = "header", strict: bool = False, failed: dict[str, str] | None = None,
+                 read_ahead: int = 2):
         if stamps not in ("header", "log"):
             raise InputError(f"stamps must be 'header' or 'log', got {stamps!r}")
         self.signals = set(INPUT_TOPICS if signals is None else signals)
         self.log_stamps = stamps == "log"
         self.strict = strict
+        self.read_ahead = read_ahead
         #: "<bag>: <topic>" -> reason, for input topic names with a wrong type (skipped)
         self.rejected: dict[str, str] = {}
         #: one line per damaged place found in a storage, and per topic with lost messages
@@ -263,7 +267,7 @@ class BagReader:
         return groups
 
     def _plain(self, src: _Source) -> Iterator[tuple[dict[str, Batch], int]]:
-        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps)):
+        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps), self.read_ahead):
             yield self._decode_chunk(src, chunk)[0], chunk.progress
         self.problems += src.store.problems
         src.store.problems = []
@@ -271,8 +275,8 @@ class BagReader:
     def _merged(self, group: list[_Source]) -> Iterator[tuple[dict[str, Batch], int]]:
         """Records of overlapping sources, merged by log time (each source's own order kept)."""
         with ExitStack() as stack:  # an early stop of the caller stops every read-ahead worker
-            streams = [stack.enter_context(closing(read_ahead(s.store.chunks(set(s.chosen), True))))
-                       for s in group]
+            streams = [stack.enter_context(closing(read_ahead(s.store.chunks(set(s.chosen), True),
+                                                              self.read_ahead))) for s in group]
             yield from self._merge(group, streams)
         for src in group:
             self.problems += src.store.problems
@@ -423,8 +427,8 @@ def read_bags(paths: Iterable[str | os.PathLike], progress: Callable[[int], obje
               failed: dict[str, str] | None = None, **options: object) -> BagRecordings:
     """Read the input topics of ``paths`` whole, per unit (for the diagnosis, the player and tests).
 
-    ``options`` are those of :class:`BagReader` (``signals``, ``stamps``, ``strict``). The replay
-    streams instead (:class:`BagReader`), in bounded memory.
+    ``options`` are those of :class:`BagReader` (``signals``, ``stamps``, ``strict``, ``read_ahead``).
+    The replay streams instead (:class:`BagReader`), in bounded memory.
     """
     with BagReader(paths, failed=failed, **options) as reader:  # type: ignore[arg-type]
         parts: dict[str, dict[str, list[tuple[np.ndarray, np.ndarray]]]] = {u: {} for u in reader.units}

@@ -102,13 +102,13 @@ def process_unit(root: str, folder: str, relpaths: list[str], params: UnitParams
         states: dict[str, dict] = {}
         recording = None
         if previous is not None:
-            recording = read_bags(paths[previous["bags"]:], failed=failed)
+            recording = read_bags(paths[previous["bags"]:], failed=failed, read_ahead=0)
             if _continues(recording, previous["states"]):
                 outcome.resumed, states = True, previous["states"]
             else:
                 recording, failed = None, {}
-        if recording is None:
-            recording = read_bags(paths, failed=failed)
+        if recording is None:  # no read-ahead thread: the fleet runs one worker process per core
+            recording = read_bags(paths, failed=failed, read_ahead=0)
         outcome.failed_bags = {Path(p).relative_to(root).as_posix(): why for p, why in failed.items()}
         outcome.rejected = recording.rejected
         truths = truth_by_namespace(recording)

@@ -140,13 +140,15 @@ def truth_by_namespace(units: dict[str, list[Path]] | BagRecordings) -> dict[str
 
 def replay_bags(paths: Iterable, params: UnitParams, *, config: MonitorConfig | None = None,
                 progress: Callable[[int], object] | None = None, total: Callable[[int], object] | None = None,
-                stamps: str = "header", strict: bool = False) -> ReplayResult:
+                stamps: str = "header", strict: bool = False, read_ahead: int = 2) -> ReplayResult:
     """Stream ``paths`` and replay every unit (namespace) found, in unit-name order.
 
     ``total(n)`` is called once with the progress units of the whole read (from the storages' own
-    indexes), ``progress(n)`` after every chunk; ``stamps``/``strict`` as for :class:`BagReader`.
+    indexes), ``progress(n)`` after every chunk; ``stamps``/``strict``/``read_ahead`` as for
+    :class:`BagReader`.
     """
-    with BagReader(paths, signals=MONITOR_SIGNALS, stamps=stamps, strict=strict) as reader:
+    with BagReader(paths, signals=MONITOR_SIGNALS, stamps=stamps, strict=strict,
+                   read_ahead=read_ahead) as reader:
         if total is not None:
             total(reader.total)
         runs = {unit: UnitRun(unit, params, config) for unit in reader.units}

@@ -67,3 +67,15 @@ def test_the_reading_overlaps_the_callers_work() -> None:
     for _ in read_ahead(source()):
         time.sleep(0.05)
     assert time.perf_counter() - t0 < 0.5
+
+
+def test_depth_zero_reads_in_the_callers_thread() -> None:
+    seen = []
+
+    def source() -> Iterator[int]:
+        for i in range(5):
+            seen.append(threading.current_thread().name)
+            yield i
+
+    assert list(read_ahead(source(), depth=0)) == list(range(5))
+    assert set(seen) == {threading.current_thread().name}
