@@ -14,12 +14,12 @@ twin, tiled to ``--seconds`` of data) is written in sqlite3 and in mcap storage
 
 Printed: messages per second of each and the ratio replay / raw read (issue 12
 target: >= 1.5 on both storages), from wall time and from the process's CPU time.
-rosbags' raw read runs on one core. The replay (and the bulk read) read each
+rosbags' raw read runs on one core. The replay (and the bulk read) read sqlite3
 storage a few chunks ahead in a worker thread (``bagio.ahead``) that overlaps
-sqlite3 / zstd work, which releases the interpreter lock, with the monitor core:
-on two or more cores its wall time is what a user waits, its CPU time (both
+sqlite3's work, which releases the interpreter lock, with the monitor core: on
+two or more cores its wall time is what a user waits, its CPU time (both
 threads) is the one-core figure, the one to read on a machine that has a single
-core or is shared with other jobs.
+core or is shared with other jobs. mcap is read in one thread either way.
 
 ``--memory`` instead measures peak RSS of ``ebm-wear replay`` (a fresh process
 each) on recordings of two lengths written block by block (``--memory-messages``,

@@ -8,7 +8,7 @@ header stamps [ns] (int64, exact) or, with ``stamps="log"``, the bag's log
 times, and the values, in storage order (the order the recorder received them:
 late, duplicated and interleaved samples reach the core as they were
 recorded). Memory is bounded by a few storage chunks, whatever the length:
-each storage is read a few chunks ahead by a worker thread (:mod:`.ahead`).
+sqlite3 storage is read a few chunks ahead by a worker thread (:mod:`.ahead`).
 
 Storage files are read one after the other in order of their first log time.
 When the files of a unit overlap in log time (two recorders), they are merged
@@ -132,8 +132,9 @@ class BagReader:
         strict: damage found in a storage (lost messages) raises instead of being counted.
         failed: when given, bags that cannot be opened are skipped and their one-line reasons
             stored here (``failed[str(path)]``); otherwise the first one raises.
-        read_ahead: chunks each storage is read ahead by a worker thread (:mod:`.ahead`); 0 reads in
-            the caller's thread (for a process that already has every core busy: a fleet worker).
+        read_ahead: chunks each storage is read ahead by a worker thread (:mod:`.ahead`) where its
+            reads run outside the interpreter lock (sqlite3); 0 reads in the caller's thread (for a
+            process that already has every core busy: a fleet worker).
     """
 
     def __init__(self, paths: Iterable[str | os.PathLike], *, signals: Iterable[str] | None = None,
@@ -267,16 +268,20 @@ class BagReader:
         return groups
 
     def _plain(self, src: _Source) -> Iterator[tuple[dict[str, Batch], int]]:
-        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps), self.read_ahead):
+        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps), self._depth(src)):
             yield self._decode_chunk(src, chunk)[0], chunk.progress
         self.problems += src.store.problems
         src.store.problems = []
+
+    def _depth(self, src: _Source) -> int:
+        """Chunks to read ahead of the caller: only where the storage reads outside the interpreter lock."""
+        return self.read_ahead if src.store.reads_outside_lock else 0
 
     def _merged(self, group: list[_Source]) -> Iterator[tuple[dict[str, Batch], int]]:
         """Records of overlapping sources, merged by log time (each source's own order kept)."""
         with ExitStack() as stack:  # an early stop of the caller stops every read-ahead worker
             streams = [stack.enter_context(closing(read_ahead(s.store.chunks(set(s.chosen), True),
-                                                              self.read_ahead))) for s in group]
+                                                              self._depth(s)))) for s in group]
             yield from self._merge(group, streams)
         for src in group:
             self.problems += src.store.problems
