@@ -61,8 +61,8 @@ def read_ahead(items: Iterator[T], depth: int = 2) -> Generator[T, None, None]:
                 close()
 
     worker = threading.Thread(target=work, name="bag-read-ahead", daemon=True)
-    worker.start()
     try:
+        worker.start()
         while True:
             item, exc = box.get()
             if item is _END:
@@ -72,4 +72,5 @@ def read_ahead(items: Iterator[T], depth: int = 2) -> Generator[T, None, None]:
             yield item  # type: ignore[misc]  # every other entry is an item of ``items``
     finally:
         stop.set()
-        worker.join()
+        if worker.is_alive():
+            worker.join()

@@ -35,7 +35,7 @@ fine: it is skipped and listed in :attr:`BagReader.rejected`.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from contextlib import ExitStack, closing
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -151,6 +151,7 @@ class BagReader:
         #: one line per damaged place found in a storage, and per topic with lost messages
         self.problems: list[str] = []
         self.sources: list[_Source] = []
+        self._streams: list[Generator[Chunk, None, None]] = []  # read-ahead streams opened by batches()
         seen: set[Path] = set()
         try:
             for p in paths:
@@ -222,7 +223,11 @@ class BagReader:
         return chosen
 
     def close(self) -> None:
-        """Close every storage file."""
+        """Stop the read-ahead workers still running (a ``batches`` iteration left unfinished), then close
+        every storage file (a worker never reads a closed one)."""
+        for stream in self._streams:
+            stream.close()
+        self._streams = []
         for src in self.sources:
             src.store.close()
 
@@ -267,9 +272,16 @@ class BagReader:
                 groups.append([src])
         return groups
 
+    def _stream(self, src: _Source, log_time: bool) -> Generator[Chunk, None, None]:
+        """The chunks of ``src``, read ahead where that helps (:meth:`_depth`); :meth:`close` stops it."""
+        stream = read_ahead(src.store.chunks(set(src.chosen), log_time), self._depth(src))
+        self._streams.append(stream)
+        return stream
+
     def _plain(self, src: _Source) -> Iterator[tuple[dict[str, Batch], int]]:
-        for chunk in read_ahead(src.store.chunks(set(src.chosen), self.log_stamps), self._depth(src)):
-            yield self._decode_chunk(src, chunk)[0], chunk.progress
+        with closing(self._stream(src, self.log_stamps)) as chunks:  # an early stop stops the worker
+            for chunk in chunks:
+                yield self._decode_chunk(src, chunk)[0], chunk.progress
         self.problems += src.store.problems
         src.store.problems = []
 
@@ -280,8 +292,7 @@ class BagReader:
     def _merged(self, group: list[_Source]) -> Iterator[tuple[dict[str, Batch], int]]:
         """Records of overlapping sources, merged by log time (each source's own order kept)."""
         with ExitStack() as stack:  # an early stop of the caller stops every read-ahead worker
-            streams = [stack.enter_context(closing(read_ahead(s.store.chunks(set(s.chosen), True),
-                                                              self._depth(s)))) for s in group]
+            streams = [stack.enter_context(closing(self._stream(s, True))) for s in group]
             yield from self._merge(group, streams)
         for src in group:
             self.problems += src.store.problems

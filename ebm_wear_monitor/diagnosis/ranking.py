@@ -69,7 +69,8 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
 its addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b)
-and (d).  A third effect is tried the same way on top of the two (at 0.05 / (K - 2)).
+and (d).  A third effect is then fitted on top of the two only (not jointly) and kept when
+it passes the same tests against them (at 0.05 / (K - 2)).
 ``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
 changes the twin's prediction most (:func:`contribution`).
 
@@ -603,9 +604,14 @@ def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
 
 
 def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float,
-             fitted: Fit | None = None) -> EffectFit:
+             fitted: Fit | None = None, *, tested: bool = True) -> EffectFit:
     """Fit ``effect`` (unless ``fitted`` is given) and compute its held-out gap, score, test and size
-    against its floor."""
+    against its floor.
+
+    ``tested=False`` skips the test against the twin within its tolerance (a fit of W_E,
+    :func:`base_without_own`): an effect added in the forward selection is tested against the
+    effects it extends instead (:func:`_addition`), which sets ``p_value``.
+    """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
     d = s_before - s_after
@@ -614,7 +620,8 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     shrink = float(1.0 - gap / gap_before) if gap_before > 0.0 else 0.0
     z_after = sc.z(f.model, sc.split.heldout)
     ef = EffectFit(effect, f.theta, f.stderr, f.model, gap, score, shrink, d, z_after)
-    ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
+    if tested:
+        ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
     ef.floor = tolerance.FLOORS.get(effect.name, 0.0)
@@ -625,9 +632,11 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
 
 def extend(sc: Scorer, first: EffectFit, second: Effect, s_before: np.ndarray,
            gap_before: float) -> EffectFit:
-    """The pair ``first`` + ``second`` as a nested extension: ``first`` stays as fitted (its parameters,
-    nuisances and tolerances), ``second`` is fitted on top of it with the nuisances and free tolerances of
-    its own channels only (:func:`_free_tolerances`).
+    """The pair ``first`` + ``second`` as a nested extension: ``first``'s parameters stay as fitted, and
+    so do its nuisances and tolerances outside ``second``'s channels; ``second`` is fitted on top of it
+    with the nuisances and free tolerances of its own channels (:func:`_free_tolerances`: refitted from
+    ``first``'s values, ``second``'s own budget entries held at zero). ``second``'s standard errors are
+    conditional on ``first``'s parameters (their uncertainty is not propagated).
 
     The joint fit of a pair (:func:`evaluate` of :func:`.catalog.combine`) frees the tolerances of both
     effects' channels at once; when the effects act in different channels (a force-channel effect and a
@@ -644,7 +653,7 @@ def extend(sc: Scorer, first: EffectFit, second: Effect, s_before: np.ndarray,
     g = fit(sc, dataclasses.replace(second, name=pair.name, to_augment=on_top), first.model)
     both = Fit(np.concatenate([theta1, g.theta]), np.concatenate([first.stderr, g.stderr]), g.model,
                g.nuisance_std)
-    return evaluate(sc, pair, s_before, gap_before, both)
+    return evaluate(sc, pair, s_before, gap_before, both, tested=False)
 
 
 def base_without_own(sc: Scorer, effect: Effect) -> Model:
@@ -886,7 +895,8 @@ def _pairs(sc: Scorer, lead: EffectFit, f: EffectFit, s_before: np.ndarray, gap_
     and, with ``nested``, as an extension of ``lead`` (:func:`extend`; tried whatever ``f`` scores alone:
     an effect whose own budget entries are held at zero can score below the twin and still close what
     ``lead`` leaves, e.g. a force-sensor bias beside a clearance growth)."""
-    out = [evaluate(sc, combine(lead.effect, f.effect), s_before, gap_before)] if f.score > 0.0 else []
+    out = [evaluate(sc, combine(lead.effect, f.effect), s_before, gap_before, tested=False)] \
+        if f.score > 0.0 else []
     if nested:
         out.append(extend(sc, lead, f.effect, s_before, gap_before))
     return out
@@ -908,7 +918,7 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
         added = dataclasses.replace(f, theta=theta, stderr=se, size=float(f.effect.size(theta)),
                                     size_std=_size_std(f.effect, theta, se),
                                     contribution=contribution(sc, f.effect, theta))
-        p = improvement_p(current.z_heldout, together.z_heldout)
+        p = together.p_value = improvement_p(current.z_heldout, together.z_heldout)
         ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score
         if ok:
             added.drift = drift_test(sc, added)

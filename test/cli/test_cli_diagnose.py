@@ -3,12 +3,14 @@
 import json
 from pathlib import Path
 
+import jsonschema
 import pytest
 
 from ebm_wear_monitor.bagio import write_unit_bag
 from ebm_wear_monitor.cli.main import main
 from ebm_wear_monitor.diagnosis.selftest import Case, simulate_case
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.schema.documents import load
 
 SPEC_KEYS = {"verdict", "effect", "ranking", "where", "gap_before", "gap_after", "metric"}
 SELFTEST_KEYS = {"cases", "top1_accuracy", "top2_accuracy", "false_positive_rate", "median_shrink",
@@ -93,6 +95,8 @@ def test_selftest_json(tmp_path):
     out = tmp_path / "s.json"
     assert main(["diagnose", "--selftest", "--cases", "3", "--json", str(out)]) == 0
     res = json.loads(out.read_text())
+    # the shipped JSON Schema (test/schema validates the other CLIs' outputs; this run is shared)
+    jsonschema.Draft202012Validator(load("selftest")).validate(res)
     assert res.keys() >= SELFTEST_KEYS and res["cases"] == 3
     assert sum(sum(row.values()) for row in res["confusion"].values()) == 3
     # the foreign world under its own key, with the in-world keys and those of the open set

@@ -136,7 +136,10 @@ def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():
     first = evaluate(sc, cat["stiffness_nonlinearity"], s_before, gap)
     pair = extend(sc, first, cat["viscous_friction"], s_before, gap)
     assert pair.effect.name == "stiffness_nonlinearity+viscous_friction"
-    assert np.array_equal(pair.theta[:1], first.theta)
+    # the first effect's correction and its channel's (force) nuisances are those of its own fit
+    assert pair.model.aug.stiffness_quad == first.model.aug.stiffness_quad
+    assert pair.model.aug.force_skew == first.model.aug.force_skew
+    assert pair.model.aug.force_lag == first.model.aug.force_lag
     value, err = pair.theta[1], pair.stderr[1]
     assert abs(value - viscous) <= max(4.0 * err, 0.05 * viscous), (value, err)
     # the second effect's test of the forward selection: held out, at 0.05 over the 7 other effects

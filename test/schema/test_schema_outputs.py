@@ -46,9 +46,3 @@ def test_fleet_output(tmp_path):
               "--workers", "1", "--no-progress")
     assert len(doc["units"]) == 3 and doc["failures"] == []
     assert json.loads((tmp_path / "out" / "fleet.json").read_text()) == doc
-
-
-@pytest.mark.slow
-def test_selftest_output(tmp_path):
-    doc = run(tmp_path, "selftest", "diagnose", "--selftest", "--cases", "2", "--no-progress")
-    assert doc["cases"] == 2
