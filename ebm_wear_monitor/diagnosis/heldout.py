@@ -13,16 +13,27 @@ from scipy import stats
 MATERIAL_Z = 1.6448536269514722
 
 
-def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
-    """One-sided p-value of "the correction lowers the held-out residual".
+def improvement_u(z_before: np.ndarray, z_after: np.ndarray) -> float | None:
+    """The statistic U of the held-out comparison of two fitted corrections (None when they agree).
 
-    With delta = z_before - z_after fixed by the calibration fit and held-out noise z ~ N(0, 1),
+    With delta = z_before - z_after fixed by the calibration fits and held-out noise z ~ N(0, 1),
     S_before - S_after = 2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when
     the correction is absent; U = (S_before - S_after) / (2 sqrt(sum(delta^2))) is compared with N(0, 1).
     """
     delta = z_before - z_after
     norm = float(np.sqrt(np.sum(delta * delta)))
     if norm == 0.0:
-        return 1.0
-    u = float(np.sum(z_before**2 - z_after**2)) / (2.0 * norm)
-    return float(stats.norm.sf(u))
+        return None
+    return float(np.sum(z_before**2 - z_after**2)) / (2.0 * norm)
+
+
+def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
+    """One-sided p-value of "the correction lowers the held-out residual" (:func:`improvement_u`)."""
+    u = improvement_u(z_before, z_after)
+    return 1.0 if u is None else float(stats.norm.sf(u))
+
+
+def tie_p(z_a: np.ndarray, z_b: np.ndarray) -> float:
+    """Two-sided p-value of "two fitted corrections explain the held-out data equally well"."""
+    u = improvement_u(z_b, z_a)
+    return 1.0 if u is None else float(2.0 * stats.norm.sf(abs(u)))

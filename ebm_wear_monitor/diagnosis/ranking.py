@@ -101,9 +101,9 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
-from ebm_wear_monitor.diagnosis import tolerance
+from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
@@ -693,13 +693,9 @@ def contribution(sc: Scorer, effect: Effect, theta: np.ndarray) -> float:
 
 
 def tie_p(a: EffectFit, b: EffectFit) -> float:
-    """Two-sided p-value of "two fitted effects explain the held-out data equally well"."""
-    delta = a.z_heldout - b.z_heldout
-    norm = float(np.sqrt(np.sum(delta * delta)))
-    if norm == 0.0:
-        return 1.0
-    u = float(np.sum(b.z_heldout**2 - a.z_heldout**2)) / (2.0 * norm)
-    return float(2.0 * stats.norm.sf(abs(u)))
+    """Two-sided p-value of "two fitted effects explain the held-out data equally well"
+    (:func:`.heldout.tie_p`)."""
+    return heldout.tie_p(a.z_heldout, b.z_heldout)
 
 
 @dataclass(frozen=True)
@@ -916,14 +912,14 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
         together = max(fitted, key=lambda q: q.score)
         theta, se = together.theta[k0:], together.stderr[k0:]
         added = dataclasses.replace(f, theta=theta, stderr=se, size=float(f.effect.size(theta)),
-                                    size_std=_size_std(f.effect, theta, se),
-                                    contribution=contribution(sc, f.effect, theta))
+                                    size_std=_size_std(f.effect, theta, se))
         p = together.p_value = improvement_p(current.z_heldout, together.z_heldout)
         ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score
         if ok:
             added.drift = drift_test(sc, added)
             ok = not added.drifting
         if ok and (best is None or together.score > best[0].score):
+            added.contribution = contribution(sc, f.effect, theta)
             best = (together, added)
     return best
 
