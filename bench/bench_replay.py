@@ -1,8 +1,18 @@
 """Benchmark of ``ebm-wear replay`` end to end against rosbags' raw iteration of the same bag, same run.
 
 A bag of the three monitor topics at 1 kHz (brake applications of the digital
-twin, tiled to ``--seconds`` of data) is written in sqlite3 and in mcap storage
-(by rosbags' writer). For each, on one core, in the same run, best of ``--repeat``:
+twin, tiled) is written in sqlite3 and in mcap storage (by rosbags' writer), in
+two shapes (``--shape``):
+
+* ``issue``: the recording issue 12 measured, 2.2 M messages holding 200 brake
+  applications (about 11 k messages per application: 1 s of motion and hold,
+  2.7 s of rest);
+* ``dense``: a stress case, 1.2 M messages holding 263 applications (4.5 k
+  messages per application: 0.5 s of rest), where the monitor core's work per
+  application (filter bank, remaining-life quantiles, clearance observation)
+  weighs 2.4x more per message.
+
+For each, on one core, in the same run, best of ``--repeat``:
 
 * raw read (the baseline): ``rosbags`` ``Reader.messages()`` over every message,
   bytes only, no decoding: what any replay built on rosbags stands on;
@@ -17,16 +27,17 @@ target: >= 1.5 on both storages), from wall time and from the process's CPU time
 rosbags' raw read runs on one core. The replay (and the bulk read) read sqlite3
 storage a few chunks ahead in a worker thread (``bagio.ahead``) that overlaps
 sqlite3's work, which releases the interpreter lock, with the monitor core: on
-two or more cores its wall time is what a user waits, its CPU time (both
-threads) is the one-core figure, the one to read on a machine that has a single
-core or is shared with other jobs. mcap is read in one thread either way.
+two or more cores its wall time is what a user waits; its CPU time (both
+threads) is what it costs a machine shared with other jobs. A process allowed
+one core only reads in one thread (``bagio.ahead.spare_core``), so the
+one-thread figure is the one-core figure. mcap is read in one thread either way.
 
 ``--memory`` instead measures peak RSS of ``ebm-wear replay`` (a fresh process
 each) on recordings of two lengths written block by block (``--memory-messages``,
 default 2 M and 20 M messages): issue 12 target < 400 MB for any length, the same
 at both lengths.
 
-Run: ``.venv/bin/python bench/bench_replay.py [--seconds 400] [--repeat 3]``
+Run: ``.venv/bin/python bench/bench_replay.py [--shape issue dense] [--repeat 3]``
      ``.venv/bin/python bench/bench_replay.py --memory [--storage sqlite3]``
 """
 
@@ -50,11 +61,13 @@ from ebm_wear_monitor.replay.run import replay_bags
 from ebm_wear_monitor.twin import simulate_unit
 
 T0_NS = 1_700_000_000_000_000_000
+#: bag shapes: (seconds of 1 kHz data, rest after each application [s])
+SHAPES = {"issue": (733.0, 2.7), "dense": (400.0, 0.5)}
 
 
-def twin_period(unit) -> dict[str, np.ndarray]:
-    """One stretch of 16 twin brake applications at 1 kHz (angle, velocity, force)."""
-    sim = simulate_unit(unit, 16, rate_hz=1000.0, hold_s=(0.5, 1.0), rest_s=0.5)
+def twin_period(unit, rest_s: float = 0.5) -> dict[str, np.ndarray]:
+    """16 twin brake applications at 1 kHz (angle, velocity, force), ``rest_s`` [s] of rest after each."""
+    sim = simulate_unit(unit, 16, rate_hz=1000.0, hold_s=(0.5, 1.0), rest_s=rest_s)
     return {k: getattr(sim, k) for k in SIGNALS}
 
 
@@ -89,27 +102,35 @@ def bulk_read(bag: Path) -> int:
 
 def ratios(args) -> None:
     unit = load_unit()
-    n = int(args.seconds * 1000)
-    signals = tiled(twin_period(unit), 0, n)
-    t = T0_NS + np.arange(n, dtype=np.int64) * 1_000_000
-    print(f"bag: {n} samples x {len(signals)} topics = {n * len(signals)} messages, 1 kHz")
+    for shape in args.shape:
+        seconds, rest_s = SHAPES[shape]
+        n = int(seconds * 1000)
+        signals = tiled(twin_period(unit, rest_s), 0, n)
+        t = T0_NS + np.arange(n, dtype=np.int64) * 1_000_000
+        print(f"{shape} bag: {n} samples x {len(signals)} topics = {n * len(signals)} messages, 1 kHz, "
+              f"{rest_s} s rest after each application")
+        one_shape(unit, t, signals, args.repeat)
+
+
+def one_shape(unit, t: np.ndarray, signals: dict[str, np.ndarray], repeat: int) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for storage in ("sqlite3", "mcap"):
             bag = Path(tmp) / storage
             write_unit_bag(bag, t, {"/embu": signals}, storage=storage)
             replay_bags([bag], unit)  # warm: wear-model table, imports
-            raw_s, raw_cpu, count = best(lambda b=bag: raw_read(b), args.repeat)
-            bulk_s, _, got = best(lambda b=bag: bulk_read(b), args.repeat)
-            rep_s, rep_cpu, res = best(lambda b=bag: replay_bags([b], unit), args.repeat)
-            one_s, one_cpu, _ = best(lambda b=bag: replay_bags([b], unit, read_ahead=0), args.repeat)
+            raw_s, raw_cpu, count = best(lambda b=bag: raw_read(b), repeat)
+            bulk_s, _, got = best(lambda b=bag: bulk_read(b), repeat)
+            rep_s, rep_cpu, res = best(lambda b=bag: replay_bags([b], unit), repeat)
+            one_s, one_cpu, _ = best(lambda b=bag: replay_bags([b], unit, read_ahead=0), repeat)
             assert got == count, (got, count)
             raw, bulk, rep, one = count / raw_s, count / bulk_s, count / rep_s, count / one_s
             print(f"{storage}: raw read (rosbags) {raw / 1e3:.0f} k msg/s | bulk read {bulk / 1e3:.0f} k "
                   f"msg/s ({bulk / raw:.2f}x) | replay {rep / 1e3:.0f} k msg/s, "
                   f"{res.units[0].snapshot.duty_cycles} applications\n"
                   f"    replay / raw read = {rep / raw:.2f} wall time, {raw_cpu / rep_cpu:.2f} CPU time "
-                  "(target >= 1.5; CPU: one core)\n"
-                  f"    without read-ahead (one thread): {one / raw:.2f} wall, {raw_cpu / one_cpu:.2f} CPU")
+                  "(target >= 1.5)\n"
+                  f"    without read-ahead (one thread, as on one core): {one / raw:.2f} wall, "
+                  f"{raw_cpu / one_cpu:.2f} CPU")
 
 
 def write_long(path: Path, messages: int, storage: str, unit) -> int:
@@ -166,7 +187,8 @@ def memory(args) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seconds", type=float, default=400.0, help="seconds of 1 kHz data (3 topics)")
+    parser.add_argument("--shape", nargs="+", default=list(SHAPES), choices=list(SHAPES),
+                        help="bag shapes (module docstring)")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--memory", action="store_true", help="peak RSS at two lengths instead of speed")
     parser.add_argument("--memory-messages", type=int, nargs=2, default=[2_000_000, 20_000_000])

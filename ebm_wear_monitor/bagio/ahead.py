@@ -7,7 +7,9 @@ the monitor core that consumes the chunks: the replay's wall time tends to
 max(read, core) instead of read + core. The price is CPU time: the two threads
 contend for the lock (about 10 % more on sqlite3; on mcap, whose chunks are
 parsed in Python, 30 % more for no gain, so it is not read ahead). (rosbag2's
-own player reads ahead into a queue the same way.)
+own player reads ahead into a queue the same way.) A process allowed on one core
+only (:func:`spare_core`) would pay the contention and gain nothing: the reader
+then reads in the caller's thread.
 
 Memory stays bounded: at most ``depth`` chunks wait in the queue, plus the one
 being read. Order is the storage's order (one producer, a FIFO queue). An
@@ -18,6 +20,7 @@ its own) stops the worker and the storage's generator before it returns.
 
 from __future__ import annotations
 
+import os
 import queue
 import threading
 from collections.abc import Generator, Iterator
@@ -27,6 +30,12 @@ T = TypeVar("T")
 
 _END = object()  # the worker's last item: the storage is exhausted (or failed: the exception follows)
 _POLL_S = 0.05  # how often a worker blocked on a full queue checks whether the caller stopped [s]
+
+
+def spare_core() -> bool:
+    """Whether this process may run on more than one core (its CPU affinity, else the CPU count)."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return (cores or 1) > 1
 
 
 def read_ahead(items: Iterator[T], depth: int = 2) -> Generator[T, None, None]:

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ebm_wear_monitor.bagio.ahead import read_ahead
+from ebm_wear_monitor.bagio.ahead import read_ahead, spare_core
 from ebm_wear_monitor.bagio.storage import Chunk, Records, Storage, open_storage
 from ebm_wear_monitor.domain.recording import Recording, Signal
 from ebm_wear_monitor.domain.signals import FLOAT64_STAMPED, INPUT_TOPICS, split_topic
@@ -133,8 +133,9 @@ class BagReader:
         failed: when given, bags that cannot be opened are skipped and their one-line reasons
             stored here (``failed[str(path)]``); otherwise the first one raises.
         read_ahead: chunks each storage is read ahead by a worker thread (:mod:`.ahead`) where its
-            reads run outside the interpreter lock (sqlite3); 0 reads in the caller's thread (for a
-            process that already has every core busy: a fleet worker).
+            reads run outside the interpreter lock (sqlite3) and the process may use a second core;
+            0 reads in the caller's thread (for a process that already has every core busy: a fleet
+            worker).
     """
 
     def __init__(self, paths: Iterable[str | os.PathLike], *, signals: Iterable[str] | None = None,
@@ -286,8 +287,9 @@ class BagReader:
         src.store.problems = []
 
     def _depth(self, src: _Source) -> int:
-        """Chunks to read ahead of the caller: only where the storage reads outside the interpreter lock."""
-        return self.read_ahead if src.store.reads_outside_lock else 0
+        """Chunks to read ahead of the caller: only where the storage reads outside the interpreter lock
+        and a second core can do it (:func:`~.ahead.spare_core`)."""
+        return self.read_ahead if src.store.reads_outside_lock and spare_core() else 0
 
     def _merged(self, group: list[_Source]) -> Iterator[tuple[dict[str, Batch], int]]:
         """Records of overlapping sources, merged by log time (each source's own order kept)."""

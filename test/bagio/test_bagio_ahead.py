@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
+import numpy as np
 import pytest
 
-from ebm_wear_monitor.bagio.ahead import read_ahead
+from ebm_wear_monitor.bagio import BagReader, write_unit_bag
+from ebm_wear_monitor.bagio.ahead import read_ahead, spare_core
+from ebm_wear_monitor.bagio.storage import SQLITE_BLOCK
 
 
 def _workers() -> int:
@@ -86,3 +91,27 @@ def test_depth_zero_reads_in_the_callers_thread() -> None:
 
     assert list(read_ahead(source(), depth=0)) == list(range(5))
     assert set(seen) == {threading.current_thread().name}
+
+
+@pytest.mark.skipif(not hasattr(os, "sched_setaffinity") or len(os.sched_getaffinity(0)) < 2,
+                    reason="needs a process affinity of two cores or more to narrow")
+def test_a_process_on_one_core_reads_sqlite3_in_its_own_thread(tmp_path: Path) -> None:
+    """Read ahead, one core would pay the threads' contention for nothing: the reader reads in the
+    caller's thread when the process is allowed one core only, and ahead when it has two."""
+    n = SQLITE_BLOCK  # three storage chunks (blocks of row ids) of the three topics
+    t = 1_700_000_000_000_000_000 + np.arange(n, dtype=np.int64) * 1_000_000
+    values = {"angle": np.linspace(0.0, 1.0, n), "velocity": np.zeros(n), "axial_force": np.ones(n)}
+    write_unit_bag(tmp_path / "bag", t, {"/embu": values}, storage="sqlite3")
+
+    def most_workers() -> int:
+        with BagReader([tmp_path / "bag"], signals=set(values)) as reader:
+            return max(_workers() for _ in reader.batches())
+
+    cores = os.sched_getaffinity(0)
+    assert most_workers() >= 1
+    os.sched_setaffinity(0, {min(cores)})
+    try:
+        assert not spare_core()
+        assert most_workers() == 0
+    finally:
+        os.sched_setaffinity(0, cores)
