@@ -204,8 +204,8 @@ class DiagnosisResult(Record):
     verdict: str = quantity("", "effect: named; none: the twin explains the data; unexplained: a material "
                             "gap no catalog effect nor pair closes", json="verdict", enum=VERDICTS)
     effect: str | None = quantity("", "the single most likely unmodelled effect", json="effect")
-    effects: list[str] = quantity("", "every effect the data support; [] for none / unexplained",
-                                  json="effects")
+    effects: list[str] = quantity("", "the effects forward selection kept, in the order added (at most "
+                                  "three); [] for none / unexplained", json="effects")
     summary: str = quantity("", "the verdict in one plain-words sentence", json="summary")
     ranking: list[RankingEntry] = quantity("", "every catalog effect, best first", json="ranking")
     where: Where = quantity("", "where the twin as given misses", json="where")
