@@ -77,10 +77,17 @@ def analyse(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
     catalog = build_catalog(nominal, max_speed=float(np.percentile(model.speed, 99.5)),
                             max_force=float(max(np.percentile(model.force, 99.5), 1.0)),
                             speed_range=(float(lo), float(hi)))
-    # two passes: the noise is measured again on the residual of the first pass's best effect
-    first = rank(Scorer.build(model), catalog)
-    sc = Scorer.build(model, reference=first.top.augment)
-    return sc, rank(sc, catalog)
+    # two passes: the noise is measured again on the residual of the first pass's best effect; when that
+    # gives the same noise scale, the second pass would repeat the first exactly
+    sensors = Scorer.sensors(model)
+    scale = sensors.noise_scale()
+    sc = sensors.scaled(scale)
+    ranking = rank(sc, catalog)
+    again = sensors.noise_scale(ranking.top.augment)
+    if again != scale:
+        sc = sensors.scaled(again)
+        ranking = rank(sc, catalog)
+    return sc, ranking
 
 
 def diagnose_recording(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> DiagnosisResult:

@@ -223,29 +223,47 @@ class Scorer:
         more than that in its quietest phase (coloured sensor noise).  The torque noise adds,
         in quadrature, the uncertainty of the current integral where the sampling does not
         resolve the electrical transient and of the friction where stick and slip cannot be
-        told apart (:mod:`.residuals`).
+        told apart (:mod:`.residuals`).  Steps: :meth:`sensors`, :meth:`noise_scale`, :meth:`scaled`.
         """
+        sensors = cls.sensors(model)
+        return sensors.scaled(sensors.noise_scale(reference))
+
+    @classmethod
+    def sensors(cls, model: ResidualModel) -> Scorer:
+        """The scorer of the block noise propagated from the sensors alone (:func:`sensor_noise`), with
+        its tolerance responses at the nominal twin and W fitted with it (the first step of :meth:`build`)."""
         b = model.blocks
-        s_t, s_f = block_noise(model)
-        s_t = np.maximum(s_t, 1e-6 * model.nominal.friction.coulomb + 1e-12)  # resolution floors (noise-free)
-        s_f = np.maximum(s_f, 1e-3)
-        split = split_by_cycle(b.cycle, b.force)
-        specs = nuisance_specs(model)
-        extra_t = np.hypot(model.unresolved_torque, model.ambiguous_torque)
-        pre = cls(model, split, np.hypot(s_t, extra_t), s_f, specs)
+        s_t, s_f, extra_t = sensor_noise(model)
+        pre = cls(model, split_by_cycle(b.cycle, b.force), np.hypot(s_t, extra_t), s_f, nuisance_specs(model))
         pre = dataclasses.replace(pre, D=pre.responses(NOMINAL))
-        pre = dataclasses.replace(pre, base=fit_base(pre)[0])
-        reference = pre.base.aug if reference is None else reference
-        r = model.residuals(reference)
+        return dataclasses.replace(pre, base=fit_base(pre)[0])
+
+    def noise_scale(self, reference: Augment | None = None) -> tuple[float, float, float]:
+        """(c_T, c_F, spread [N]) measured on the residual of ``reference`` (default: W) of this
+        :meth:`sensors` scorer: the scale-ups c >= 1 of the torque and force noise where the residual
+        scatters more than the sensors explain in its quietest phase, and the pad-contact spread
+        (:func:`contact_spread`) at the scaled force noise."""
+        model, b = self.model, self.model.blocks
+        s_t, s_f, _ = sensor_noise(model)
+        r = model.residuals(self.base.aug if reference is None else reference)
         c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
         c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
+        return c_t, c_f, contact_spread(model, r["force"], c_f * s_f)
+
+    def scaled(self, scale: tuple[float, float, float]) -> Scorer:
+        """The scorer of this :meth:`sensors` scorer's noise scaled by ``scale`` (:meth:`noise_scale`):
+        sigma_T = hypot(c_T s_T, extra_T), sigma_F = hypot(c_F s_F, spread), with its tolerance responses
+        and W refitted from this scorer's."""
+        model, b = self.model, self.model.blocks
+        s_t, s_f, extra_t = sensor_noise(model)
+        c_t, c_f, spread_all = scale
         # where pads touch or are about to (every block of an application but idle): a shifted contact
         # position moves the force there, and the model's own contact point may fall on either side
-        spread = contact_spread(model, r["force"], c_f * s_f) * (b.phase != Phase.IDLE)
-        sc = cls(model, split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread), specs,
-                 sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
-        sc = dataclasses.replace(sc, D=sc.responses(pre.base.aug))
-        base, std = fit_base(sc, pre.base)
+        spread = spread_all * (b.phase != Phase.IDLE)
+        sc = Scorer(model, self.split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread),
+                    self.nuisances, sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
+        sc = dataclasses.replace(sc, D=sc.responses(self.base.aug))
+        base, std = fit_base(sc, self.base)
         return dataclasses.replace(sc, base=base, base_std=std)
 
     def responses(self, aug: Augment) -> np.ndarray:
@@ -337,6 +355,16 @@ class Scorer:
             scale = float(np.sqrt(np.sum(w * ref[rows] ** 2) / np.sum(w)))
             out[ch] = float(np.sqrt(max(excess, 0.0)) / max(scale, 1e-12))
         return out
+
+
+def sensor_noise(model: ResidualModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(s_T [N m], s_F [N], extra_T [N m]) per block: :func:`block_noise` above its resolution floors (for
+    noise-free data), and the torque uncertainty where the sampling does not resolve a transient or stick
+    and slip cannot be told apart (:mod:`.residuals`), added to s_T in quadrature."""
+    s_t, s_f = block_noise(model)
+    s_t = np.maximum(s_t, 1e-6 * model.nominal.friction.coulomb + 1e-12)
+    s_f = np.maximum(s_f, 1e-3)
+    return s_t, s_f, np.hypot(model.unresolved_torque, model.ambiguous_torque)
 
 
 def block_noise(model: ResidualModel) -> tuple[np.ndarray, np.ndarray]:

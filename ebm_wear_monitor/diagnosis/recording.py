@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -54,9 +55,9 @@ class Resampled:
         if not np.all(np.diff(self.t) > 0.0):
             raise InputError(f"{self.unit}: sample times must increase strictly")
 
-    @property
+    @cached_property
     def dt(self) -> float:
-        """Median sample interval of the time base [s]."""
+        """Median sample interval of the time base [s] (computed once: the fits read it for every model)."""
         return float(np.median(np.diff(self.t)))
 
     def interval(self, signal: str) -> float:

@@ -80,6 +80,8 @@ parameters onto it.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -141,6 +143,11 @@ NUISANCE_UNITS = {"current_shift": "s", "current_offset": "A", "load_shift": "s"
 TORQUE_FIELDS = ("dB", "dG", "dT_fs", "dT_fc", "eff_base", "eff_speed", "stribeck_torque", "stribeck_speed",
                  "force_gain")
 FORCE_FIELDS = ("stiffness_quad", "clearance", "force_gain")
+#: every Augment field each channel's residual reads (model corrections, nuisances, tolerances): the key
+#: under which :class:`ResidualModel` remembers a residual
+TORQUE_INPUTS = (*TORQUE_FIELDS, "current_shift", "current_offset", "force_skew", "force_lag", "load_shift",
+                 "drive_gain", "inertia_gain", "reverse_dT_fc", "reverse_dG")
+FORCE_INPUTS = (*FORCE_FIELDS, "force_skew", "force_lag", "stiffness_gain")
 
 
 def nuisances_of(aug: Augment) -> dict[str, float]:
@@ -239,12 +246,39 @@ def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving:
                   block_mean(force, start, stop))
 
 
+class Memo:
+    """The values of an expensive function for the ``size`` keys used last (read-only arrays)."""
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+        self._values: OrderedDict[Hashable, np.ndarray] = OrderedDict()
+
+    def get(self, key: Hashable, compute: Callable[[], np.ndarray]) -> np.ndarray:
+        """The value remembered for ``key``, else ``compute()`` (remembered; the least recently used goes)."""
+        if key in self._values:
+            self._values.move_to_end(key)
+            return self._values[key]
+        value = compute()
+        value.flags.writeable = False  # shared by every caller of the key
+        self._values[key] = value
+        if len(self._values) > self.size:
+            self._values.popitem(last=False)
+        return value
+
+
 class ResidualModel:
     """Torque- and force-channel block residuals of one recording for any :class:`Augment`.
 
     Construction takes the conventions (speed from the angle, rest angles, tares) and cuts the
-    blocks once; :meth:`residuals` is then a few vectorised passes over the samples.
+    blocks once; :meth:`residuals` is then a few vectorised passes over the samples.  The fits
+    evaluate the same residual many times (a finite-difference column moves one parameter, which
+    leaves the channel it does not act in unchanged; a fitted model is scored several times), so
+    each channel's residual is remembered for the Augment fields it reads (:data:`TORQUE_INPUTS`,
+    :data:`FORCE_INPUTS`), and each signal read later for its shift.
     """
+
+    #: residuals remembered (a finite-difference Jacobian's worth), and shifted signals (per sample)
+    MEMO_RESIDUALS, MEMO_SIGNALS = 8, 4
 
     def __init__(self, rec: Resampled, seg: Segmentation, conv: Conventions, nominal: ActuatorModel,
                  block_s: float = 0.02) -> None:
@@ -272,6 +306,9 @@ class ResidualModel:
         self.unresolved_torque = self._unresolved_torque()
         self.ambiguous_torque = self._ambiguous_torque()
         self.drive_torque_nominal = nominal.torque_constant * rec.current  # 004 eq. 7 [N m]
+        self._h = np.diff(rec.t)  # sample intervals [s]
+        self._signals = {"force": self.force, "current": rec.current, "travel": self.x}
+        self._residuals, self._shifted = Memo(self.MEMO_RESIDUALS), Memo(self.MEMO_SIGNALS)
 
     def _current_jumps(self) -> np.ndarray:
         """|dI| of each sample interval beyond three standard deviations of its noise [A] (zero otherwise)."""
@@ -350,39 +387,41 @@ class ResidualModel:
         return share * band * (b.moving & irregular)
 
     # ----------------------------------------------------------------- model terms per sample
-    def _read_later(self, y: np.ndarray, shift: float) -> np.ndarray:
-        """``y`` read ``shift`` seconds later (linear interpolation, held at the ends)."""
+    def _read_later(self, signal: str, shift: float) -> np.ndarray:
+        """The per-sample ``signal`` (``force``, ``current`` or ``travel``) read ``shift`` seconds later
+        (linear interpolation, held at the ends)."""
+        y = self._signals[signal]
         if shift == 0.0:
             return y
         t = self.rec.t
-        return np.interp(t + shift, t, y)
+        return self._shifted.get((signal, shift), lambda: np.interp(t + shift, t, y))
 
     def load_force(self, aug: Augment) -> np.ndarray:
         """Clamp force behind the reading for the load torque: tared, gain removed, lag and skew undone."""
         shift = aug.force_skew + aug.force_lag + aug.load_shift
-        return self._read_later(self.force, shift) / (1.0 + aug.force_gain)
+        return self._read_later("force", shift) / (1.0 + aug.force_gain)
 
-    def friction(self, aug: Augment) -> tuple[np.ndarray, np.ndarray]:
+    def friction(self, aug: Augment, drive: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(friction torque T_f per sample [N m], load torque T_L per sample [N m]): 004 eq. 9 + ``aug``.
 
         At rest the friction is taken as whatever balances the drive (the stick branch of eq. 9
-        without its band test, see the module docstring).
+        without its band test, see the module docstring); ``drive`` is :meth:`drive` of ``aug``.
         """
         n = self.nominal
         F = self.load_force(aug)
         T_L = n.load_torque(F)
         kinetic = kinetic_friction(n, aug, self.w_m, F, sign=self.sign, speed=self.speed)
-        stuck = self.drive(aug) - T_L - (1.0 + aug.inertia_gain) * self.inertia_torque  # module docstring
+        stuck = drive - T_L - (1.0 + aug.inertia_gain) * self.inertia_torque  # module docstring
         return np.where(self.moving, kinetic, stuck), T_L
 
     def drive(self, aug: Augment) -> np.ndarray:
         """Motor torque K_T (I - i_0) [N m] (004 eq. 7), the current read ``aug.current_shift`` later."""
         K_T = self.nominal.torque_constant * (1.0 + aug.drive_gain)
-        return K_T * (self._read_later(self.rec.current, aug.current_shift) - aug.current_offset)
+        return K_T * (self._read_later("current", aug.current_shift) - aug.current_offset)
 
     def force_model(self, aug: Augment) -> np.ndarray:
         """Tared force reading the model predicts from the nut travel: (1 + g) L_tau(F(t - s_F)) [N]."""
-        x = self._read_later(self.x, -aug.force_skew)
+        x = self._read_later("travel", -aug.force_skew)
         spring = clamp_spring(self.nominal, aug).force(x)
         return (1.0 + aug.force_gain) * first_order_lag(spring, aug.force_lag, self.rec.dt)
 
@@ -393,20 +432,26 @@ class ResidualModel:
     # ----------------------------------------------------------------- block residuals
     def _net_integral(self, aug: Augment) -> np.ndarray:
         """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample [N m s]."""
-        T_f, T_L = self.friction(aug)
-        net = self.drive(aug) - T_L - T_f
-        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * np.diff(self.rec.t))))
+        drive = self.drive(aug)
+        T_f, T_L = self.friction(aug, drive)
+        net = drive - T_L - T_f
+        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * self._h)))
 
     def torque_residual(self, aug: Augment, C: np.ndarray | None = None) -> np.ndarray:
-        """R_T per block [N m] (module docstring); ``C`` the net-torque integral when already known."""
+        """R_T per block [N m] (module docstring); ``C`` the net-torque integral when already known
+        (else remembered for the :data:`TORQUE_INPUTS` of ``aug``)."""
+        if C is None:
+            key = ("torque", *(getattr(aug, f) for f in TORQUE_INPUTS))
+            return self._residuals.get(key, lambda: self.torque_residual(aug, self._net_integral(aug)))
         b = self.blocks
-        C = self._net_integral(aug) if C is None else C
         J = self.nominal.inertia * (1.0 + aug.inertia_gain)
         return (C[b.stop] - C[b.start] - J * self._dw_block) / self._dt_block
 
     def force_residual(self, aug: Augment) -> np.ndarray:
-        """R_F per block: mean tared reading minus the model's [N]."""
-        return self.blocks.mean(self.force - self.force_model(aug))
+        """R_F per block: mean tared reading minus the model's [N] (remembered for the :data:`FORCE_INPUTS`
+        of ``aug``)."""
+        key = ("force", *(getattr(aug, f) for f in FORCE_INPUTS))
+        return self._residuals.get(key, lambda: self.blocks.mean(self.force - self.force_model(aug)))
 
     def residuals(self, aug: Augment = NOMINAL) -> dict[str, np.ndarray]:
         """Block residuals ``torque`` (R_T [N m]) and ``force`` (R_F [N])."""

@@ -1,6 +1,7 @@
 """Residuals of the nominal twin vanish on data that obey 004 eq. 1-9 exactly; effects show where expected."""
 
 import sys
+from dataclasses import fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -11,7 +12,7 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.recording import Resampled, recording_from_signals
-from ebm_wear_monitor.diagnosis.residuals import Augment
+from ebm_wear_monitor.diagnosis.residuals import FORCE_INPUTS, NOMINAL, TORQUE_INPUTS, Augment
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
@@ -91,3 +92,17 @@ def test_force_channel_ignores_encoder_zero_and_tare(nom):
     r1 = residual_model(moved, nom).residuals()["force"]
     # the tare is estimated per application from its idle readings: equal to well within the noise
     assert np.max(np.abs(r0 - r1)) < 3.0
+
+
+def test_remembered_residuals_are_keyed_by_every_field_they_read(nom):
+    # ResidualModel remembers each channel's residual under its *_INPUTS fields: no other field may change it
+    m = residual_model(synth(nom, cycles=4, noise=QUIET), nom)
+    torque, force = m.signal_residuals()["current"], m.force_model(NOMINAL)  # neither is remembered
+    for f in fields(Augment):
+        aug = replace(NOMINAL, **{f.name: getattr(NOMINAL, f.name) + 1e-3})
+        if f.name not in TORQUE_INPUTS:
+            assert np.array_equal(m.signal_residuals(aug)["current"], torque), f.name
+        if f.name not in FORCE_INPUTS:
+            assert np.array_equal(m.force_model(aug), force), f.name
+    r = m.torque_residual(NOMINAL)
+    assert m.torque_residual(NOMINAL) is r and not r.flags.writeable
