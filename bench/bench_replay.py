@@ -12,7 +12,7 @@ two shapes (``--shape``):
   application (filter bank, remaining-life quantiles, clearance observation)
   weighs 2.4x more per message.
 
-For each, on one core, in the same run, best of ``--repeat``:
+For each, in one process, in the same run, best of ``--repeat``:
 
 * raw read (the baseline): ``rosbags`` ``Reader.messages()`` over every message,
   bytes only, no decoding: what any replay built on rosbags stands on;

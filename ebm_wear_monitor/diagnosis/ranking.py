@@ -239,7 +239,8 @@ class Scorer:
         return dataclasses.replace(pre, base=fit_base(pre)[0])
 
     def noise_scale(self, reference: Augment | None = None) -> tuple[float, float, float]:
-        """(c_T, c_F, spread [N]) measured on the residual of ``reference`` (default: W) of this
+        """(c_T, c_F, spread [N]) measured on the residual of ``reference`` (default: W's nuisances, no
+        tolerance deviations) of this
         :meth:`sensors` scorer: the scale-ups c >= 1 of the torque and force noise where the residual
         scatters more than the sensors explain in its quietest phase, and the pad-contact spread
         (:func:`contact_spread`) at the scaled force noise."""
@@ -260,7 +261,7 @@ class Scorer:
         # where pads touch or are about to (every block of an application but idle): a shifted contact
         # position moves the force there, and the model's own contact point may fall on either side
         spread = spread_all * (b.phase != Phase.IDLE)
-        sc = Scorer(model, self.split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread),
+        sc = type(self)(model, self.split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread),
                     self.nuisances, sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
         sc = dataclasses.replace(sc, D=sc.responses(self.base.aug))
         base, std = fit_base(sc, self.base)

@@ -277,7 +277,9 @@ class ResidualModel:
     :data:`FORCE_INPUTS`), and each signal read later for its shift.
     """
 
-    #: residuals remembered (a finite-difference Jacobian's worth), and shifted signals (per sample)
+    #: residuals remembered (the last evaluations of either channel: a finite-difference column of a
+    #: parameter of one channel finds the other's there), and shifted signals (one per-sample array each,
+    #: held as long as the model)
     MEMO_RESIDUALS, MEMO_SIGNALS = 8, 4
 
     def __init__(self, rec: Resampled, seg: Segmentation, conv: Conventions, nominal: ActuatorModel,
@@ -465,12 +467,12 @@ class ResidualModel:
         recorded at block end [rad/s]; ``angle``: re-anchored twin screw angle minus recorded at block
         end [rad]; ``axial_force``: force predicted from the nut travel minus recorded [N].
         """
-        n, b, t = self.nominal, self.blocks, self.rec.t
+        n, b = self.nominal, self.blocks
         C = self._net_integral(aug)
         torque = self.torque_residual(aug, C)
         # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
         g = C / n.inertia - self.w_m
-        D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))))
+        D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * self._h)))
         angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.inertia) * self._dt_block
         return {
             "current": -torque / n.torque_constant,

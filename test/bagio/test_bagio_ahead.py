@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import time
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 
 from ebm_wear_monitor.bagio import BagReader, write_unit_bag
-from ebm_wear_monitor.bagio.ahead import read_ahead, spare_core
+from ebm_wear_monitor.bagio.ahead import _cgroup_cpus, read_ahead, spare_core
 from ebm_wear_monitor.bagio.storage import SQLITE_BLOCK
 
 
@@ -115,3 +116,19 @@ def test_a_process_on_one_core_reads_sqlite3_in_its_own_thread(tmp_path: Path) -
         assert most_workers() == 0
     finally:
         os.sched_setaffinity(0, cores)
+
+
+def test_a_cgroup_cpu_quota_counts_as_the_cores_it_allows(tmp_path: Path) -> None:
+    """A container limited to one CPU sees every core of its host in its affinity: the quota decides."""
+    (tmp_path / "cpu.max").write_text("100000 100000\n")
+    assert _cgroup_cpus(tmp_path) == 1.0
+    (tmp_path / "cpu.max").write_text("max 100000\n")
+    assert _cgroup_cpus(tmp_path) == math.inf
+    (tmp_path / "cpu.max").unlink()
+    (tmp_path / "cpu").mkdir()
+    (tmp_path / "cpu" / "cpu.cfs_quota_us").write_text("250000\n")
+    (tmp_path / "cpu" / "cpu.cfs_period_us").write_text("100000\n")
+    assert _cgroup_cpus(tmp_path) == 2.5
+    (tmp_path / "cpu" / "cpu.cfs_quota_us").write_text("-1\n")
+    assert _cgroup_cpus(tmp_path) == math.inf
+    assert _cgroup_cpus(tmp_path / "absent") == math.inf

@@ -97,9 +97,12 @@ def test_force_channel_ignores_encoder_zero_and_tare(nom):
 def test_remembered_residuals_are_keyed_by_every_field_they_read(nom):
     # ResidualModel remembers each channel's residual under its *_INPUTS fields: no other field may change it
     m = residual_model(synth(nom, cycles=4, noise=QUIET), nom)
-    torque, force = m.signal_residuals()["current"], m.force_model(NOMINAL)  # neither is remembered
+    # every conditional branch on: Stribeck, direction asymmetry, sensor lag and skews
+    start = Augment(stribeck_torque=0.01, stribeck_speed=2.0, reverse_dT_fc=1e-3, reverse_dG=1e-6,
+                    force_lag=1e-3, force_skew=1e-3, current_shift=1e-3, load_shift=1e-3)
+    torque, force = m.signal_residuals(start)["current"], m.force_model(start)  # neither is remembered
     for f in fields(Augment):
-        aug = replace(NOMINAL, **{f.name: getattr(NOMINAL, f.name) + 1e-3})
+        aug = replace(start, **{f.name: getattr(start, f.name) * 1.1 + 1e-3})
         if f.name not in TORQUE_INPUTS:
             assert np.array_equal(m.signal_residuals(aug)["current"], torque), f.name
         if f.name not in FORCE_INPUTS:
