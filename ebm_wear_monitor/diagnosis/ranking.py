@@ -214,24 +214,18 @@ class Scorer:
     cache: dict = field(default_factory=dict, compare=False, repr=False)  # fits shared by the effects
 
     @classmethod
-    def build(cls, model: ResidualModel, reference: Augment | None = None) -> Scorer:
-        """Measure the block noise, the tolerance responses, and fit the twin within its tolerance.
-
-        The block noise is propagated from the sensor noise (:func:`block_noise`) and scaled
-        up when the residual of ``reference`` (default: the nominal twin with its nuisances; in
-        a second pass the best-ranked effect, whose residual carries less model error) scatters
-        more than that in its quietest phase (coloured sensor noise).  The torque noise adds,
-        in quadrature, the uncertainty of the current integral where the sampling does not
-        resolve the electrical transient and of the friction where stick and slip cannot be
-        told apart (:mod:`.residuals`).  Steps: :meth:`sensors`, :meth:`noise_scale`, :meth:`scaled`.
-        """
-        sensors = cls.sensors(model)
-        return sensors.scaled(sensors.noise_scale(reference))
-
-    @classmethod
     def sensors(cls, model: ResidualModel) -> Scorer:
         """The scorer of the block noise propagated from the sensors alone (:func:`sensor_noise`), with
-        its tolerance responses at the nominal twin and W fitted with it (the first step of :meth:`build`)."""
+        its tolerance responses at the nominal twin and W fitted with it.
+
+        The scorer the diagnosis uses is made in two more steps (:func:`.pipeline.analyse`): the block
+        noise is scaled up where the residual of a reference (the nominal twin with its nuisances; in a
+        second pass the best-ranked effect, whose residual carries less model error) scatters more than
+        the sensors explain in its quietest phase (coloured sensor noise: :meth:`noise_scale`), and W is
+        refitted at that noise (:meth:`scaled`). The torque noise adds, in quadrature, the uncertainty
+        of the current integral where the sampling does not resolve the electrical transient and of the
+        friction where stick and slip cannot be told apart (:mod:`.residuals`).
+        """
         b = model.blocks
         s_t, s_f, extra_t = sensor_noise(model)
         pre = cls(model, split_by_cycle(b.cycle, b.force), np.hypot(s_t, extra_t), s_f, nuisance_specs(model))
@@ -240,10 +234,9 @@ class Scorer:
 
     def noise_scale(self, reference: Augment | None = None) -> tuple[float, float, float]:
         """(c_T, c_F, spread [N]) measured on the residual of ``reference`` (default: W's nuisances, no
-        tolerance deviations) of this
-        :meth:`sensors` scorer: the scale-ups c >= 1 of the torque and force noise where the residual
-        scatters more than the sensors explain in its quietest phase, and the pad-contact spread
-        (:func:`contact_spread`) at the scaled force noise."""
+        tolerance deviations) by this :meth:`sensors` scorer: the scale-ups c >= 1 of the torque and
+        force noise where the residual scatters more than the sensors explain in its quietest phase, and
+        the pad-contact spread (:func:`contact_spread`) at the scaled force noise."""
         model, b = self.model, self.model.blocks
         s_t, s_f, _ = sensor_noise(model)
         r = model.residuals(self.base.aug if reference is None else reference)
@@ -338,7 +331,7 @@ class Scorer:
         noise is large, a transient the sampling does not resolve, says little about the model).
 
         sigma_s is the block noise propagated from the sensors alone: the residual-based scale-up of
-        :meth:`build` may take a model error for coloured noise, and must not hide it here.
+        :meth:`noise_scale` may take a model error for coloured noise, and must not hide it here.
         """
         h, mdl, b = self.split.heldout, self.model, self.model.blocks
         z = self.z_all(m.aug) + self.D @ m.t

@@ -41,7 +41,8 @@ TRUTH = {
 def scorer(aug, seed=0, cycles=10, **kw):
     rec = synth(NOM, aug, cycles=cycles, seed=seed, **kw)
     model = residual_model(rec, NOM)
-    return Scorer.build(model), model
+    sensors = Scorer.sensors(model)
+    return sensors.scaled(sensors.noise_scale()), model
 
 
 def catalog(model):
