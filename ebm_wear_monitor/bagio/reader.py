@@ -67,6 +67,11 @@ class _Bag:
     expected: dict[str, int]  # topic -> message count of metadata.yaml
 
 
+#: libyaml's safe loader when PyYAML was built with it (5.8 -> 0.65 ms on a foreign bag's metadata.yaml), else
+#: the pure-Python one: both construct plain Python objects only
+_YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
 def _metadata(path: Path) -> _Bag:
     """The bag at ``path``: a rosbag2 directory (its metadata.yaml) or a bare .db3/.mcap file."""
     meta = path / "metadata.yaml"
@@ -81,7 +86,7 @@ def _metadata(path: Path) -> _Bag:
     if not has_meta:
         raise InputError(f"{path}: not a rosbag2 bag (no metadata.yaml)")
     try:
-        data = yaml.safe_load(meta.read_text(encoding="utf-8"))
+        data = yaml.load(meta.read_text(encoding="utf-8"), Loader=_YAML_LOADER)
     except Exception as exc:  # unreadable file or malformed YAML: not a usable rosbag2 metadata file
         raise InputError(f"{meta}: invalid rosbag2 metadata: {_reason(exc)}") from exc
     info = data.get("rosbag2_bagfile_information") if isinstance(data, dict) else None
