@@ -72,7 +72,9 @@ NODE_SPECS: tuple[ParamSpec, ...] = (
     ParamSpec("qos_reliability", "best_effort",
               "input QoS reliability: best_effort (sensor-data profile) or reliable",
               choices=("best_effort", "reliable")),
-    ParamSpec("qos_depth", 1000, "input subscription history depth (keep last N) [messages]", 1, 100000),
+    ParamSpec("qos_depth", 1000,
+              "input history depth of best-effort inputs (keep last N; reliable inputs keep all, the "
+              "publisher waits) [messages]", 1, 100000),
     ParamSpec("executor", "events",
               "events = rclpy EventsExecutor (cheapest), single_threaded = SingleThreadedExecutor",
               choices=("events", "single_threaded")),

@@ -8,7 +8,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 def input_qos(reliable: bool, depth: int, keep_all: bool = False) -> QoSProfile:
     """Input topics: the sensor-data profile (best effort, volatile, keep last ``depth``) or reliable.
 
-    ``keep_all`` (reliable publishers only) makes a writer wait for slow readers instead of dropping.
+    ``keep_all`` (reliable only) keeps every sample: a writer waits for slow readers, and a reader's
+    history never overwrites a sample not yet taken (with keep-last, a node starved of CPU for longer
+    than ``depth`` samples of a topic loses the oldest silently, although every sample was delivered).
     """
     return QoSProfile(
         depth=depth,
