@@ -14,30 +14,15 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import yaml
-from rosbags.rosbag2 import Reader
+
+# the same timing and baseline as the twin-bag bench (bench/ is sys.path[0] when run as a script)
+from bench_replay import best, raw_read
 
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.run import replay_bags
-
-
-def best(fn: Callable[[], object], repeat: int) -> float:
-    """Best wall time [s] of ``repeat`` calls."""
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
-def raw_read(bag: Path) -> int:
-    with Reader(bag) as reader:
-        return sum(1 for _ in reader.messages())
 
 
 def main() -> None:
@@ -53,9 +38,9 @@ def main() -> None:
         info = yaml.safe_load(meta.read_text())["rosbag2_bagfile_information"]
         storage, count = info["storage_identifier"], info["message_count"]
         replay_bags([bag], unit)  # warm
-        raw = best(lambda b=bag: raw_read(b), args.repeat)
-        ahead = best(lambda b=bag: replay_bags([b], unit), args.repeat)
-        one = best(lambda b=bag: replay_bags([b], unit, read_ahead=0), args.repeat)
+        raw = best(lambda b=bag: raw_read(b), args.repeat)[0]
+        ahead = best(lambda b=bag: replay_bags([b], unit), args.repeat)[0]
+        one = best(lambda b=bag: replay_bags([b], unit, read_ahead=0), args.repeat)[0]
         ratios.setdefault(storage, []).append((raw / ahead, raw / one))
         print(f"{bag.name:48s} {storage:7s} {count:8d} msgs  raw {raw:.3f} s  replay {ahead:.3f} s "
               f"({raw / ahead:.2f}x)  one thread {one:.3f} s ({raw / one:.2f}x)")

@@ -147,8 +147,7 @@ class WearMonitorNode:
         self.wrong_type_publishers = 0
         self.life_status_logged = ""
 
-        reliable = params.qos_reliability == "reliable"
-        qos = input_qos(reliable, params.qos_depth, keep_all=reliable)
+        qos = input_qos(params.qos_reliability == "reliable", params.qos_depth)
         msg_type = messages.Float64Stamped
         self.inputs = {s: InputBuffer(s) for s in MONITOR_SIGNALS}
         # raw=True hands the callback the serialised bytes, which rclpy's annotation does not cover

@@ -87,7 +87,7 @@ class Player:
         if unknown:
             raise InputError(f"unknown signals {sorted(unknown)}; use {', '.join(INPUT_TOPICS)}")
         ns = "/" + namespace.strip("/")
-        qos = input_qos(reliable, 1000, keep_all=True)
+        qos = input_qos(reliable, 1000)
         self._node = node
         self.publishers: list[Publisher] = [
             node.create_publisher(_float64_stamped(), f"{ns.rstrip('/')}/{INPUT_TOPICS[s]}", qos)

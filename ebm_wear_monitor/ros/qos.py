@@ -5,17 +5,17 @@ from __future__ import annotations
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 
-def input_qos(reliable: bool, depth: int, keep_all: bool = False) -> QoSProfile:
+def input_qos(reliable: bool, depth: int) -> QoSProfile:
     """Input topics: the sensor-data profile (best effort, volatile, keep last ``depth``) or reliable.
 
-    ``keep_all`` (reliable only) keeps every sample: a writer waits for slow readers, and a reader's
-    history never overwrites a sample not yet taken (with keep-last, a node starved of CPU for longer
-    than ``depth`` samples of a topic loses the oldest silently, although every sample was delivered).
+    Reliable keeps every sample (``depth`` unused): a writer waits for slow readers, and a reader's
+    history never overwrites a sample not yet taken. With keep-last, a node starved of CPU for longer
+    than ``depth`` samples of a topic loses the oldest silently, although every one was delivered.
     """
     return QoSProfile(
         depth=depth,
         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-        history=HistoryPolicy.KEEP_ALL if keep_all and reliable else HistoryPolicy.KEEP_LAST,
+        history=HistoryPolicy.KEEP_ALL if reliable else HistoryPolicy.KEEP_LAST,
         durability=DurabilityPolicy.VOLATILE)
 
 

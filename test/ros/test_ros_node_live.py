@@ -41,19 +41,22 @@ def rel(a: float, b: float) -> float:
 
 
 @pytest.mark.timeout(90)
-@pytest.mark.parametrize(("source", "executor", "speed"), [
-    ("bags/healthy", "events", "2"),  # the twin's sample bag: 8 applications at 1 kHz, 8.5 s
-    ("synthetic", "single_threaded", "5"),  # closed-form, 4 applications at 500 Hz
+@pytest.mark.parametrize(("source", "executor", "speed", "depth"), [
+    ("bags/healthy", "events", "2", 1000),  # the twin's sample bag: 8 applications at 1 kHz, 8.5 s
+    ("synthetic", "single_threaded", "5", 1000),  # closed-form, 4 applications at 500 Hz
+    # a history of one sample against a burst at 20x: a keep-last reader overwrites samples it has not
+    # taken yet (what CPU starvation does to a depth of 1000); reliable inputs keep all, nothing is lost
+    ("synthetic", "single_threaded", "20", 1),
 ])
 def test_node_wear_equals_the_offline_core_on_the_same_bag(  # noqa: PLR0917
-        procs, make_bag, repo, tmp_path, source, executor, speed) -> None:
+        procs, make_bag, repo, tmp_path, source, executor, speed, depth) -> None:
     bag = make_bag(n_cycles=4, rate_hz=500.0)[0] if source == "synthetic" else repo / source
     cycles, snap = offline(bag)
     n = len(cycles)
     assert n >= 4 and snap.duty_cycles == n
     lines = procs.listener()
     node = procs.node("-r", "__ns:=/embu", state_dir=tmp_path / "state",
-                      params={"qos_reliability": "reliable", "executor": executor})
+                      params={"qos_reliability": "reliable", "executor": executor, "qos_depth": depth})
     lines.wait_until(lambda s: any(m["topic"] == "remaining_life" for m in s), 30)  # node up and matched
     player = procs.player(bag, "--reliable", "--speed", speed, "--signals", "angle,velocity,axial_force")
     assert player.wait(timeout=60) == 0, player.stderr.read()
