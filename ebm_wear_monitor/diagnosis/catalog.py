@@ -19,8 +19,10 @@ efficiency_variation        T_f += s T_L (a_0 + a_w |w_m|): the loss factor 1/et
                             nests load_friction and must earn its extra parameter
 preload_change              T_fs += dT, T_fc += dT (004 eq. 28-29, reason 4: the preload    dT [N m]
                             torque shifts both; only T_fc is seen while moving)
-stribeck                    T_f += s T_S exp(-(|w_m| / w_S)^2): friction falling from        T_S [N m],
-                            static towards Coulomb over a speed range                       w_S [rad/s]
+stribeck                    T_f += s T_S exp(-(|w_m| / w_S)^2), T_S >= 0: friction falling  T_S [N m],
+                            from static towards Coulomb over a speed range (a friction      w_S [rad/s]
+                            rising with speed is no Stribeck curve; the twin's own effect
+                            is a hump above T_fc too)
 stiffness_nonlinearity      F = K_b d + k_2 d^2, d = x - x_ag (004 eq. 5 made progressive)   k_2 [N/m^2]
 clearance_growth            x_ag -> x_ag + dx (004 eq. 5; wear of balls and raceways)         dx [m]
 force_sensor_bias           F_read = b + (1 + g) F; the offset b is the tare, estimated from  g [-]
@@ -135,7 +137,7 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
                ("T_S", "w_S"), ("N m", "rad/s"),
                lambda p: Augment(stribeck_torque=p[0], stribeck_speed=p[1]),
                (0.1 * f.coulomb, 0.1 * max_speed), tuple((0.0, s) for s in s_grid),
-               (-np.inf, 0.2), (np.inf, 2.0 * max_speed),
+               (0.0, 0.2), (np.inf, 2.0 * max_speed),  # T_S >= 0: friction that *falls* with speed
                size=lambda p: abs(p[0]) * (1.0 - np.exp(-((w_hi / p[1]) ** 2))) / f.coulomb,
                size_meaning="fall of the extra friction from zero to the top recorded speed, "
                             "fraction of T_fc",

@@ -23,6 +23,7 @@ level has to be configured:
 from __future__ import annotations
 
 import numpy as np
+from scipy import optimize
 
 MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): MAD -> sigma for a Gaussian
 
@@ -72,3 +73,34 @@ def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
         group = np.asarray(group)
         d = d[(group[:-4] == group[2:-2]) & (group[4:] == group[2:-2])]
     return mad_sigma(d) / np.sqrt(1.5)
+
+
+#: median of the chi-square distribution with one degree of freedom: median(z^2) for z ~ N(0, 1)
+CHI2_1_MEDIAN = 0.454936423119572
+
+
+def median_scale(r: np.ndarray, s: np.ndarray, extra: np.ndarray | None = None) -> float:
+    """Robust scale c of a residual series against a propagated noise: median(r^2 / (c^2 s^2 + e^2)) is
+    the median of chi-square(1), ``CHI2_1_MEDIAN``, so that r / sqrt(c^2 s^2 + e^2) is standard
+    normal in its central half (0 when ``extra`` e alone, or nothing, explains the residual).
+
+    A model error confined to a minority of the blocks (the transients where a motion starts or stops)
+    does not move the median; one present in most blocks raises it, never lowers it. The lag-2 scale of
+    :func:`series_noise` errs the other way (smooth model error cancels, sharp transients do not): the
+    noise is at most the smaller of the two.
+    """
+    r2 = np.asarray(r, dtype=float) ** 2
+    s2 = np.asarray(s, dtype=float) ** 2
+    e2 = np.zeros_like(s2) if extra is None else np.asarray(extra, dtype=float) ** 2
+    if r2.size == 0:
+        return 0.0
+
+    def excess(c: float) -> float:
+        return float(np.median(r2 / (c * c * s2 + e2 + 1e-300))) - CHI2_1_MEDIAN
+
+    if excess(0.0) <= 0.0:
+        return 0.0
+    hi = 1.0
+    while excess(hi) > 0.0:
+        hi *= 2.0
+    return float(optimize.brentq(excess, 0.0, hi, xtol=1e-6 * hi))

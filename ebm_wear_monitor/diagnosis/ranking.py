@@ -16,9 +16,10 @@ under its *best* admissible acquisition.
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
 residual R_F (:mod:`.residuals`), divided by their block noise: z = R / sigma.
-sigma is propagated from the measured sensor noise (:func:`block_noise`), scaled
-up if the residual scatters more than that in its quietest phase (coloured noise),
-plus the unresolved-current term.
+sigma is propagated from the measured sensor noise (:func:`block_noise`) and, in the
+torque channel, from the transients the sampling does not resolve; each of the two is
+rescaled to the scatter the residual of the twin within its tolerance actually shows where
+it dominates (:meth:`Scorer.noise_scale`).
 
 **Fit.**  An effect's parameters theta minimise sum z(theta)^2 over the calibration
 blocks of its channels (bounded Gauss-Newton, ``scipy.optimize.least_squares``),
@@ -106,7 +107,7 @@ from scipy import optimize
 from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
-from ebm_wear_monitor.diagnosis.noise import series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.noise import median_scale, series_noise, signal_noise
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
@@ -124,6 +125,10 @@ from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 ALPHA = 0.05  # family-wise error rate of the verdict
 TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from the next
+#: the noise scale-up may fall below one (the propagated sensor noise overstates the block noise when the
+#: raw signal's second differences carry its own dynamics, a current sampled below its controller's
+#: bandwidth), not below this: a residual below a tenth of it is the resolution of a noise-free signal
+NOISE_SCALE_MIN = 0.1
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
 METRIC = "excess_rms_over_noise"
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
@@ -219,9 +224,8 @@ class Scorer:
         its tolerance responses at the nominal twin and W fitted with it.
 
         The scorer the diagnosis uses is made in two more steps (:func:`.pipeline.analyse`): the block
-        noise is scaled up where the residual of a reference (the nominal twin with its nuisances; in a
-        second pass the best-ranked effect, whose residual carries less model error) scatters more than
-        the sensors explain in its quietest phase (coloured sensor noise: :meth:`noise_scale`), and W is
+        noise is rescaled to the scatter of the residual of a reference (W; in a second pass the
+        best-ranked effect, whose residual carries less model error: :meth:`noise_scale`), and W is
         refitted at that noise (:meth:`scaled`). The torque noise adds, in quadrature, the uncertainty
         of the current integral where the sampling does not resolve the electrical transient and of the
         friction where stick and slip cannot be told apart (:mod:`.residuals`).
@@ -232,29 +236,65 @@ class Scorer:
         pre = dataclasses.replace(pre, D=pre.responses(NOMINAL))
         return dataclasses.replace(pre, base=fit_base(pre)[0])
 
-    def noise_scale(self, reference: Augment | None = None) -> tuple[float, float, float]:
-        """(c_T, c_F, spread [N]) measured on the residual of ``reference`` (default: W's nuisances, no
-        tolerance deviations) by this :meth:`sensors` scorer: the scale-ups c >= 1 of the torque and
-        force noise where the residual scatters more than the sensors explain in its quietest phase, and
-        the pad-contact spread (:func:`contact_spread`) at the scaled force noise."""
-        model, b = self.model, self.model.blocks
-        s_t, s_f, _ = sensor_noise(model)
-        r = model.residuals(self.base.aug if reference is None else reference)
-        c_t = max(_quietest_phase_noise(r["torque"] / s_t, model, b.moving), 1.0)
-        c_f = max(_quietest_phase_noise(r["force"] / s_f, model, np.ones(b.size, bool)), 1.0)
-        return c_t, c_f, contact_spread(model, r["force"], c_f * s_f)
+    def noise_scale(self, reference: Model | None = None) -> tuple[float, float, float, float]:
+        """(c_T, c_E, c_F, spread [N]): the scales of the propagated noise that the residual of
+        ``reference`` (default: W, the twin within its tolerance as this scorer fitted it) shows, and the
+        pad-contact spread (:func:`contact_spread`) at the scaled force noise.
 
-    def scaled(self, scale: tuple[float, float, float]) -> Scorer:
+        The noise the block residuals carry is sigma_T^2 = (c_T s_T)^2 + (c_E e_T)^2 and sigma_F^2 =
+        (c_F s_F)^2 + spread^2, s the noise propagated from the sensors (:func:`block_noise`), e_T the
+        torque of the transients the sampling does not resolve (:func:`sensor_noise`). Each scale is
+        measured where its term dominates: c_T on the moving blocks with e_T <= s_T, c_E on those with
+        e_T > s_T (given c_T), c_F on every force row. Why the scales, and why they may fall below one:
+
+        * s is propagated from the raw signals' noise (:func:`.noise.signal_noise`), which counts a
+          signal's own dynamics faster than its sampling (a current sampled below its controller's
+          bandwidth) as noise; e_T is a bound (the integral anywhere within +-|dI| dt / 2), not a
+          standard deviation. Both can overstate the scatter several times, and a torque channel whose
+          noise is overstated weighs nothing: on the foreign generator's healthy recordings, with the
+          former scale-up only (c >= 1), the held-out mean z^2 of W's moving torque rows was 0.02-0.12.
+        * Each scale is the smaller of two estimates that a model error can only inflate, each by a
+          different kind: the lag-2 curvature of the quietest phase (:func:`_quietest_phase_noise`;
+          smooth model error cancels, sharp transients do not) and the median of z^2
+          (:func:`.noise.median_scale`; model error in a minority of the blocks does not move it, model
+          error everywhere does). Not below ``NOISE_SCALE_MIN``.
+        * The residual is the reference's with its tolerance deviations (R + sigma D t, the responses being
+          linear): a deviation a healthy unit may have (a K_T x current-gain error carries every step of
+          the current) is no noise.
+        """
+        model, b = self.model, self.model.blocks
+        s_t, s_f, extra_t = sensor_noise(model)
+        ref = self.base if reference is None else reference
+        r = model.residuals(ref.aug)
+        dev = self.D @ ref.t  # tolerance deviations, in units of this scorer's block noise
+        r_t = r["torque"] + self.sigma_torque * dev[:b.size]
+        r_f = r["force"] + self.sigma_force * dev[b.size:]
+        rows_f = self.valid(np.ones(b.size, bool), "force")
+        trans = b.moving & (extra_t > s_t)
+        steady = b.moving & ~trans
+        if steady.sum() < 10:
+            steady = b.moving
+        c_t = min(_quietest_phase_noise(r_t / s_t, model, b.moving) or np.inf,
+                  median_scale(r_t[steady], s_t[steady], extra_t[steady]))
+        c_t = max(c_t, NOISE_SCALE_MIN)
+        c_e = max(median_scale(r_t[trans], extra_t[trans], c_t * s_t[trans]), NOISE_SCALE_MIN) \
+            if trans.sum() >= 10 else 1.0
+        c_f = min(_quietest_phase_noise(r_f / s_f, model, np.ones(b.size, bool)) or np.inf,
+                  median_scale(r_f[rows_f], s_f[rows_f]))
+        c_f = max(c_f, NOISE_SCALE_MIN)
+        return c_t, c_e, c_f, contact_spread(model, r_f, c_f * s_f)
+
+    def scaled(self, scale: tuple[float, float, float, float]) -> Scorer:
         """The scorer of this :meth:`sensors` scorer's noise scaled by ``scale`` (:meth:`noise_scale`):
-        sigma_T = hypot(c_T s_T, extra_T), sigma_F = hypot(c_F s_F, spread), with its tolerance responses
+        sigma_T = hypot(c_T s_T, c_E extra_T), sigma_F = hypot(c_F s_F, spread), with its tolerance responses
         and W refitted from this scorer's."""
         model, b = self.model, self.model.blocks
         s_t, s_f, extra_t = sensor_noise(model)
-        c_t, c_f, spread_all = scale
+        c_t, c_e, c_f, spread_all = scale
         # where pads touch or are about to (every block of an application but idle): a shifted contact
         # position moves the force there, and the model's own contact point may fall on either side
         spread = spread_all * (b.phase != Phase.IDLE)
-        sc = type(self)(model, self.split, np.hypot(c_t * s_t, extra_t), np.hypot(c_f * s_f, spread),
+        sc = type(self)(model, self.split, np.hypot(c_t * s_t, c_e * extra_t), np.hypot(c_f * s_f, spread),
                     self.nuisances, sensor_sigma=(np.hypot(s_t, extra_t), np.hypot(s_f, spread)))
         sc = dataclasses.replace(sc, D=sc.responses(self.base.aug))
         base, std = fit_base(sc, self.base)
@@ -330,8 +370,8 @@ class Scorer:
         sigma_s^-4 (the inverse variance of R^2 - sigma_s^2 under noise alone: a block whose sensor
         noise is large, a transient the sampling does not resolve, says little about the model).
 
-        sigma_s is the block noise propagated from the sensors alone: the residual-based scale-up of
-        :meth:`noise_scale` may take a model error for coloured noise, and must not hide it here.
+        sigma_s is the block noise propagated from the sensors alone: the residual-based scales of
+        :meth:`noise_scale` may take a model error for noise, and must not hide it here.
         """
         h, mdl, b = self.split.heldout, self.model, self.model.blocks
         z = self.z_all(m.aug) + self.D @ m.t

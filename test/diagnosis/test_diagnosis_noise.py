@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.diagnosis.noise import mad_sigma, series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.noise import mad_sigma, median_scale, series_noise, signal_noise
 
 
 @pytest.mark.parametrize("sigma", [0.01, 1.0, 50.0])
@@ -26,3 +26,23 @@ def test_series_noise_cancels_smooth_part_and_respects_groups():
     group = np.repeat([0, 1], 400)
     assert series_noise(r, group) == pytest.approx(1.0, rel=0.1)
     assert mad_sigma(np.array([])) == 0.0
+
+
+@pytest.mark.parametrize("c", [0.3, 1.0, 2.5])
+def test_median_scale_recovers_the_scale_of_two_noise_components(c):
+    """r ~ N(0, c^2 s^2 + e^2) with s and e varying from block to block: the scale c of s is recovered."""
+    rng = np.random.default_rng(3)
+    s = rng.uniform(0.5, 2.0, 4000)
+    e = np.where(rng.random(4000) < 0.3, rng.uniform(0.0, 1.0, 4000), 0.0)
+    r = rng.normal(size=4000) * np.sqrt(c * c * s * s + e * e)
+    assert median_scale(r, s, e) == pytest.approx(c, rel=0.06)
+
+
+def test_median_scale_ignores_a_minority_of_model_error_and_is_zero_when_extra_explains_all():
+    rng = np.random.default_rng(4)
+    s = np.full(3000, 0.1)
+    r = rng.normal(scale=0.1, size=3000)
+    r[:300] += 5.0  # 10 % of the blocks carry a model error of 50 noise levels (transients)
+    assert median_scale(r, s) == pytest.approx(1.0, abs=0.12)  # the mean square would say ~16
+    assert np.sqrt(np.mean((r / s) ** 2)) > 10.0
+    assert median_scale(r[300:], s[300:], np.full(2700, 1.0)) == 0.0  # e = 10 s explains it all

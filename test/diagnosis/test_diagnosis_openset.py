@@ -135,7 +135,10 @@ def _foreign_diagnosis(case_id: str, n_apps: int, tmp_path):
 def test_a_foreign_torque_ripple_is_unexplained_by_the_open_set_test(tmp_path):
     """The foreign world's ripple periodic in the screw angle (validation/foreign/effects.py), which a catalog
     friction effect absorbs only in part, turns the verdict into unexplained through the position term."""
-    res = _foreign_diagnosis("torque_ripple.screw_periodic.1", 10, tmp_path)
+    # 20 applications, as in the foreign self-test: over 10 the ripple's part beyond the shape terms,
+    # 0.036 +- 0.003 N m RMS, is significant but not above its 2 % materiality floor (0.042 N m) with
+    # 95 % confidence, and no catalog effect is significant either: the verdict is then none
+    res = _foreign_diagnosis("torque_ripple.screw_periodic.1", 20, tmp_path)
     assert res.verdict == "unexplained" and res.effects == []
     pt = res.position_torque
     assert pt is not None and pt.decided and pt.p_value < LEVEL

@@ -10,6 +10,7 @@ the calculation) for actuator 6, the one the authors re-assembled.
 """
 
 import pytest
+from scipy import stats
 
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
 from ebm_wear_monitor.diagnosis.recording import Resampled
@@ -17,6 +18,11 @@ from ebm_wear_monitor.twin import simulate_unit
 from ebm_wear_monitor.validation.papers.paper004 import TABLE3, TABLE4, paper_unit
 
 OVERSAMPLE = 8
+APPLICATIONS = 16
+#: the refit's standard errors are cluster-robust over the calibration applications (every second one,
+#: ``ranking.split_by_cycle``): with G = 8 clusters the estimate/SE ratio follows Student's t with G - 1
+#: degrees of freedom, not a normal; the bound is its quantile at the normal's 3-sigma level (0.27 %)
+T_BOUND = float(stats.t.ppf(1.0 - 0.0027 / 2.0, APPLICATIONS // 2 - 1))
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +30,7 @@ def results():
     nominal = paper_unit()
     out = []
     for i, row in enumerate(TABLE4):
-        sim = simulate_unit(paper_unit(friction=row), 16, demands=(8e3, 14e3, 20e3, 26e3), seed=100 + i,
+        sim = simulate_unit(paper_unit(friction=row), APPLICATIONS, demands=(8e3, 14e3, 20e3, 26e3), seed=100 + i,
                             rate_hz=500.0 * OVERSAMPLE, wear=False, hold_s=(0.2, 0.4), rest_s=0.2)
         s = slice(None, None, OVERSAMPLE)
         rec = Resampled(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s])
@@ -39,8 +45,8 @@ def test_b_and_g_corrections_recovered(results, i):
     for key, name in (("dB", "viscous"), ("dG", "load_coefficient")):
         true = t4[name] - t3[name]
         est, se = p[key].value, p[key].stderr
-        # within 3 standard errors, or 5 % of the Table 3 value (the resolution asked of a refit)
-        assert abs(est - true) <= max(3.0 * se, 0.05 * t3[name]), (i + 1, key, est, se, true)
+        # within T_BOUND (4.5) standard errors, or 5 % of the Table 3 value (the resolution asked of a refit)
+        assert abs(est - true) <= max(T_BOUND * se, 0.05 * t3[name]), (i + 1, key, est, se, true)
 
 
 def test_ranking_follows_the_papers_reasons(results):
