@@ -36,6 +36,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     evaluate,
     nominal_sse,
     rank,
+    ranked_fits,
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import Resampled
@@ -77,17 +78,15 @@ def analyse(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
     catalog = build_catalog(nominal, max_speed=float(np.percentile(model.speed, 99.5)),
                             max_force=float(max(np.percentile(model.force, 99.5), 1.0)),
                             speed_range=(float(lo), float(hi)))
-    # two passes: the noise is measured again on the residual of the first pass's best effect; when that
-    # gives the same noise scale, the second pass would repeat the first exactly
+    # two passes: the noise is measured again on the residual of the first pass's best effect, of which
+    # the first pass needs nothing else (no tests, no selection)
     sensors = Scorer.sensors(model)
     scale = sensors.noise_scale()
     sc = sensors.scaled(scale)
-    ranking = rank(sc, catalog)
-    again = sensors.noise_scale(ranking.top.model)
+    again = sensors.noise_scale(ranked_fits(sc, catalog, tested=False)[0].model)
     if again != scale:
         sc = sensors.scaled(again)
-        ranking = rank(sc, catalog)
-    return sc, ranking
+    return sc, rank(sc, catalog)
 
 
 def diagnose_recording(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> DiagnosisResult:

@@ -851,23 +851,35 @@ def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     return Drift(sizes[0], sizes[1], sd, bool(drifting))
 
 
+def ranked_fits(sc: Scorer, catalog: dict[str, Effect], *, tested: bool = True) -> list[EffectFit]:
+    """Every effect fitted (:func:`evaluate`), ranked by score, an effect with fewer parameters that the
+    top one does not beat significantly first (parsimony); ``tested=False`` skips each effect's test
+    against the twin within its tolerance (the ranking does not use it: :func:`.pipeline.analyse` needs
+    only the top effect of a first pass)."""
+    s_before = nominal_sse(sc)
+    gap_before = sc.gap(Model(sc.base.aug))
+    fits = sorted((evaluate(sc, e, s_before, gap_before, tested=tested) for e in catalog.values()),
+                  key=lambda f: -f.score)
+    simpler = [j for j in range(1, len(fits)) if fits[j].effect.k < fits[0].effect.k and _tied(fits, 0, j)]
+    if simpler:
+        j = min(simpler, key=lambda j: (fits[j].effect.k, -fits[j].score))
+        fits.insert(0, fits.pop(j))
+    return fits
+
+
+def _tied(fits: list[EffectFit], i: int, j: int) -> bool:
+    """Effect j explains the held-out data as well as effect i (a near-tie, :func:`tie_p`)."""
+    return fits[j].score > 0.0 and tie_p(fits[i], fits[j]) >= TIE_ALPHA
+
+
 def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     """Fit every effect, rank by score, select, decide the verdict, mark near-ties with the top effect."""
     s_before = nominal_sse(sc)
     gap_before = sc.gap(Model(sc.base.aug))
-    fits = sorted((evaluate(sc, e, s_before, gap_before) for e in catalog.values()), key=lambda f: -f.score)
+    fits = ranked_fits(sc, catalog)
     level = ALPHA / len(fits)
-
-    def tied(i: int, j: int) -> bool:
-        return fits[j].score > 0.0 and tie_p(fits[i], fits[j]) >= TIE_ALPHA
-
-    # parsimony: an effect with fewer parameters that the top one does not beat significantly goes first
-    simpler = [j for j in range(1, len(fits)) if fits[j].effect.k < fits[0].effect.k and tied(0, j)]
-    if simpler:
-        j = min(simpler, key=lambda j: (fits[j].effect.k, -fits[j].score))
-        fits.insert(0, fits.pop(j))
     top = fits[0]
-    top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and tied(0, j)]
+    top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and _tied(fits, 0, j)]
     share = sc.unexplained_share(sc.base)
     material = [ch for ch in CHANNELS if share[ch] > tolerance.MATERIAL_SHARE[ch]]
 
