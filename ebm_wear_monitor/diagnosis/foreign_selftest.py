@@ -99,12 +99,13 @@ def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> F
 
 
 def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1,
-                unit: UnitParams | None = None, on_case: Callable[[int, int], object] | None = None
-                ) -> ForeignSelftest:
-    """The foreign-world self-test: every case of the generator's quick or full set (module docstring)."""
+                unit: UnitParams | None = None, on_case: Callable[[int, int], object] | None = None,
+                *, case_set_name: str | None = None) -> ForeignSelftest:
+    """The foreign-world self-test: every case of the generator's quick or full set (module docstring),
+    or of the set named ``case_set_name`` (e.g. ``full_b``, the full set's second draw)."""
     from ebm_wear_monitor.validation.foreign import case_set
 
-    cases = case_set("quick" if quick else "full")[:max_cases]
+    cases = case_set(case_set_name or ("quick" if quick else "full"))[:max_cases]
     rows: list[ForeignCaseResult] = []
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="ebm-foreign-") as tmp:
