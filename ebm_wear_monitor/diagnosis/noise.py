@@ -96,7 +96,8 @@ def median_scale(r: np.ndarray, s: np.ndarray, extra: np.ndarray | None = None) 
         return 0.0
 
     def excess(c: float) -> float:
-        return float(np.median(r2 / (c * c * s2 + e2 + 1e-300))) - CHI2_1_MEDIAN
+        with np.errstate(over="ignore"):  # c = 0 without e: a residual over the 1e-300 guard is infinite
+            return float(np.median(r2 / (c * c * s2 + e2 + 1e-300))) - CHI2_1_MEDIAN
 
     if excess(0.0) <= 0.0:
         return 0.0

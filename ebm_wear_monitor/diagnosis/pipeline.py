@@ -7,9 +7,9 @@
    rest angle and force tare per application, the recorded velocity's lag and gain;
 3. block residuals of the nominal twin of 004 in the torque and force channels,
    re-anchored every block (:mod:`.residuals`), normalised by measured noise
-   (measured twice: on the nominal residual, then on the residual of the best
-   effect of a first ranking, which holds less model error), with the acquisition
-   nuisances fitted;
+   (:meth:`.ranking.Scorer.noise_scale`, measured twice: on the residual of the twin
+   within its tolerance, then on that of the best single effect of a first pass, which
+   holds less model error), with the acquisition nuisances fitted;
 4. every catalog effect (:mod:`.catalog`) fitted on calibration cycles and judged
    on held-out cycles against the noise and against its detectability floor from
    the model-tolerance budget (:mod:`.tolerance`), a second effect by forward
@@ -79,13 +79,10 @@ def analyse(rec: Resampled, unit: UnitParams, block_s: float = 0.02) -> tuple[Sc
                             max_force=float(max(np.percentile(model.force, 99.5), 1.0)),
                             speed_range=(float(lo), float(hi)))
     # two passes: the noise is measured again on the residual of the first pass's best effect, of which
-    # the first pass needs nothing else (no tests, no selection)
+    # the first pass needs nothing else (no tests, no selection); the two scales practically never agree
     sensors = Scorer.sensors(model)
-    scale = sensors.noise_scale()
-    sc = sensors.scaled(scale)
-    again = sensors.noise_scale(ranked_fits(sc, catalog, tested=False)[0].model)
-    if again != scale:
-        sc = sensors.scaled(again)
+    first = sensors.scaled(sensors.noise_scale())
+    sc = sensors.scaled(sensors.noise_scale(ranked_fits(first, catalog, tested=False)[0].model))
     return sc, rank(sc, catalog)
 
 

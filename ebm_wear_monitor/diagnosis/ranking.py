@@ -129,6 +129,8 @@ TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from 
 #: raw signal's second differences carry its own dynamics, a current sampled below its controller's
 #: bandwidth), not below this: a residual below a tenth of it is the resolution of a noise-free signal
 NOISE_SCALE_MIN = 0.1
+#: fewest rows a median scale is measured on (:meth:`Scorer.noise_scale`)
+MIN_SCALE_ROWS = 10
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
 METRIC = "excess_rms_over_noise"
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
@@ -244,8 +246,11 @@ class Scorer:
         The noise the block residuals carry is sigma_T^2 = (c_T s_T)^2 + (c_E e_T)^2 and sigma_F^2 =
         (c_F s_F)^2 + spread^2, s the noise propagated from the sensors (:func:`block_noise`), e_T the
         torque of the transients the sampling does not resolve (:func:`sensor_noise`). Each scale is
-        measured where its term dominates: c_T on the moving blocks with e_T <= s_T, c_E on those with
-        e_T > s_T (given c_T), c_F on every force row. Why the scales, and why they may fall below one:
+        measured where its term dominates: c_T on the moving blocks with e_T <= s_T (all moving blocks when
+        fewer than ``MIN_SCALE_ROWS``), c_E on those with e_T > s_T (given c_T), c_F on every force row;
+        the lag-2 estimates below are taken on all moving blocks (torque) and all blocks (force). e_T
+        holds the friction where stick and slip cannot be told apart too, and c_E scales it with the rest.
+        Why the scales, and why they may fall below one:
 
         * s is propagated from the raw signals' noise (:func:`.noise.signal_noise`), which counts a
           signal's own dynamics faster than its sampling (a current sampled below its controller's
@@ -257,7 +262,9 @@ class Scorer:
           different kind: the lag-2 curvature of the quietest phase (:func:`_quietest_phase_noise`;
           smooth model error cancels, sharp transients do not) and the median of z^2
           (:func:`.noise.median_scale`; model error in a minority of the blocks does not move it, model
-          error everywhere does). Not below ``NOISE_SCALE_MIN``.
+          error everywhere does); either is left out where it has no estimate (no quiet phase, fewer
+          than ``MIN_SCALE_ROWS`` rows), and a scale without either is 1 (c_E has the median only).
+          Not below ``NOISE_SCALE_MIN``.
         * The residual is the reference's with its tolerance deviations (R + sigma D t, the responses being
           linear): a deviation a healthy unit may have (a K_T x current-gain error carries every step of
           the current) is no noise.
@@ -272,16 +279,13 @@ class Scorer:
         rows_f = self.valid(np.ones(b.size, bool), "force")
         trans = b.moving & (extra_t > s_t)
         steady = b.moving & ~trans
-        if steady.sum() < 10:
+        if steady.sum() < MIN_SCALE_ROWS:
             steady = b.moving
-        c_t = min(_quietest_phase_noise(r_t / s_t, model, b.moving) or np.inf,
-                  median_scale(r_t[steady], s_t[steady], extra_t[steady]))
-        c_t = max(c_t, NOISE_SCALE_MIN)
-        c_e = max(median_scale(r_t[trans], extra_t[trans], c_t * s_t[trans]), NOISE_SCALE_MIN) \
-            if trans.sum() >= 10 else 1.0
-        c_f = min(_quietest_phase_noise(r_f / s_f, model, np.ones(b.size, bool)) or np.inf,
-                  median_scale(r_f[rows_f], s_f[rows_f]))
-        c_f = max(c_f, NOISE_SCALE_MIN)
+        c_t = _noise_scale(_quietest_phase_noise(r_t / s_t, model, b.moving),
+                           r_t[steady], s_t[steady], extra_t[steady])
+        c_e = _noise_scale(None, r_t[trans], extra_t[trans], c_t * s_t[trans])
+        c_f = _noise_scale(_quietest_phase_noise(r_f / s_f, model, np.ones(b.size, bool)),
+                           r_f[rows_f], s_f[rows_f])
         return c_t, c_e, c_f, contact_spread(model, r_f, c_f * s_f)
 
     def scaled(self, scale: tuple[float, float, float, float]) -> Scorer:
@@ -454,6 +458,17 @@ def contact_spread(model: ResidualModel, r_force: np.ndarray, sigma: np.ndarray)
     if len(means) < 3:
         return 0.0
     return float(np.sqrt(max(np.var(means, ddof=1) - np.mean(noise), 0.0)))
+
+
+def _noise_scale(lag2: float | None, r: np.ndarray, s: np.ndarray, extra: np.ndarray | None = None) -> float:
+    """One scale of :meth:`Scorer.noise_scale`: the smaller of the lag-2 estimate ``lag2`` (None or 0:
+    none) and the median scale of the rows ``r`` against their noise ``s`` beside ``extra``
+    (:func:`.noise.median_scale`; none under ``MIN_SCALE_ROWS`` rows); 1 without either estimate,
+    never below ``NOISE_SCALE_MIN``."""
+    estimates = [lag2] if lag2 else []
+    if r.size >= MIN_SCALE_ROWS:
+        estimates.append(median_scale(r, s, extra))
+    return max(min(estimates), NOISE_SCALE_MIN) if estimates else 1.0
 
 
 def _quietest_phase_noise(r: np.ndarray, model: ResidualModel, rows: np.ndarray) -> float:
@@ -671,8 +686,9 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     against its floor.
 
     ``tested=False`` skips the test against the twin within its tolerance (a fit of W_E,
-    :func:`base_without_own`): an effect added in the forward selection is tested against the
-    effects it extends instead (:func:`_addition`), which sets ``p_value``.
+    :func:`base_without_own`; ``p_value`` stays 1): an effect added in the forward selection is tested
+    against the effects it extends instead (:func:`_addition`), which sets ``p_value``, and the first
+    noise pass (:func:`ranked_fits`) needs only the order.
     """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
@@ -851,13 +867,14 @@ def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     return Drift(sizes[0], sizes[1], sd, bool(drifting))
 
 
-def ranked_fits(sc: Scorer, catalog: dict[str, Effect], *, tested: bool = True) -> list[EffectFit]:
+def ranked_fits(sc: Scorer, catalog: dict[str, Effect], *, tested: bool = True,
+                before: tuple[np.ndarray, float] | None = None) -> list[EffectFit]:
     """Every effect fitted (:func:`evaluate`), ranked by score, an effect with fewer parameters that the
     top one does not beat significantly first (parsimony); ``tested=False`` skips each effect's test
-    against the twin within its tolerance (the ranking does not use it: :func:`.pipeline.analyse` needs
-    only the top effect of a first pass)."""
-    s_before = nominal_sse(sc)
-    gap_before = sc.gap(Model(sc.base.aug))
+    against the twin within its tolerance (the order does not use it: :func:`.pipeline.analyse` needs
+    only the top effect of a first pass). ``before``: (:func:`nominal_sse`, held-out gap of W) when
+    known."""
+    s_before, gap_before = before or (nominal_sse(sc), sc.gap(Model(sc.base.aug)))
     fits = sorted((evaluate(sc, e, s_before, gap_before, tested=tested) for e in catalog.values()),
                   key=lambda f: -f.score)
     simpler = [j for j in range(1, len(fits)) if fits[j].effect.k < fits[0].effect.k and _tied(fits, 0, j)]
@@ -876,7 +893,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     """Fit every effect, rank by score, select, decide the verdict, mark near-ties with the top effect."""
     s_before = nominal_sse(sc)
     gap_before = sc.gap(Model(sc.base.aug))
-    fits = ranked_fits(sc, catalog)
+    fits = ranked_fits(sc, catalog, before=(s_before, gap_before))
     level = ALPHA / len(fits)
     top = fits[0]
     top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and _tied(fits, 0, j)]

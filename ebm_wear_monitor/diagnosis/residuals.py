@@ -332,10 +332,10 @@ class ResidualModel:
         eq. 1), biases that speed by up to dA h / 4: the block's J_me dw / dt_b then carries
         J_me (dA h / 4) / dt_b at each end, i.e. K_T dI h / (4 dt_b).  Only the part of each |dI|
         above three standard deviations of the current noise counts (sqrt 2 sigma_I per difference).
-        A motion that stops (or starts) makes such a step too: the stick branch of eq. 9 takes over
-        and the deceleration the rotor had, J_me |dw/dt| on the moving side (the largest within the
-        window), drops to zero at once; where and how a drive sticks is the simulator's or the
-        drive's own convention, not an effect.
+        A motion that stops makes such a step too: the stick branch of eq. 9 takes over and the
+        deceleration the rotor had, J_me |dw/dt| on the moving side (the largest within the window),
+        drops to zero at once; where and how a drive sticks is the simulator's or the drive's own
+        convention, not an effect (a start comes with its own current jump).
         Both enter the block's noise, so blocks the sampling does not resolve weigh little instead of
         being dropped by a threshold.
         """
@@ -350,9 +350,9 @@ class ResidualModel:
             padded = np.concatenate((np.zeros(half), y, np.zeros(half + 1 + rec.t.size - y.size)))
             return np.max(np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1), axis=1)[:rec.t.size]
 
-        # acceleration steps as torques J_me dA: a current jump (K_T dI), and a motion that stops or
-        # starts, where the stick branch of eq. 9 takes over from or gives way to the sliding friction
-        # and the acceleration jumps by the one the rotor had on its moving side (J_me |dw/dt| there)
+        # acceleration steps as torques J_me dA: a current jump (K_T dI), and a motion that stops, where
+        # the stick branch of eq. 9 takes over from the sliding friction and the acceleration drops by
+        # the one the rotor had on its moving side (J_me |dw/dt| there)
         switch = self.moving[:-1] & ~self.moving[1:]  # stops only: a start comes with its current jump
         stick = np.where(switch, window_max(np.abs(self.inertia_torque))[:-1], 0.0)
         largest = window_max(np.maximum(n.torque_constant * jump, stick))

@@ -20,8 +20,13 @@ from ebm_wear_monitor.validation.papers.paper004 import TABLE3, TABLE4, paper_un
 OVERSAMPLE = 8
 APPLICATIONS = 16
 #: the refit's standard errors are cluster-robust over the calibration applications (every second one,
-#: ``ranking.split_by_cycle``): with G = 8 clusters the estimate/SE ratio follows Student's t with G - 1
-#: degrees of freedom, not a normal; the bound is its quantile at the normal's 3-sigma level (0.27 %)
+#: ``ranking.split_by_cycle``), without a small-sample factor: with G = 8 clusters the usual reference for
+#: estimate/SE is Student's t with G - 1 degrees of freedom, not a normal (an approximation here: the
+#: fit has as many parameters, effect, nuisances and free tolerances, as clusters). The bound is that
+#: t's quantile at the normal's 3-sigma level (0.27 %), 4.5 SE. It replaced 3 SE when the measured block
+#: noise moved actuator 1's dB to 3.0 SE (2.9 before); under t(7), 3 SE over these 12 checks would
+#: fail about one run in five with every estimate unbiased (were the checks independent and the 5 %
+#: alternative never the larger).
 T_BOUND = float(stats.t.ppf(1.0 - 0.0027 / 2.0, APPLICATIONS // 2 - 1))
 
 
@@ -30,8 +35,9 @@ def results():
     nominal = paper_unit()
     out = []
     for i, row in enumerate(TABLE4):
-        sim = simulate_unit(paper_unit(friction=row), APPLICATIONS, demands=(8e3, 14e3, 20e3, 26e3), seed=100 + i,
-                            rate_hz=500.0 * OVERSAMPLE, wear=False, hold_s=(0.2, 0.4), rest_s=0.2)
+        sim = simulate_unit(paper_unit(friction=row), APPLICATIONS, demands=(8e3, 14e3, 20e3, 26e3),
+                            seed=100 + i, rate_hz=500.0 * OVERSAMPLE, wear=False, hold_s=(0.2, 0.4),
+                            rest_s=0.2)
         s = slice(None, None, OVERSAMPLE)
         rec = Resampled(sim.t[s], sim.angle[s], sim.velocity[s], sim.axial_force[s], sim.current[s])
         out.append(diagnose_recording(rec, nominal))
@@ -45,7 +51,7 @@ def test_b_and_g_corrections_recovered(results, i):
     for key, name in (("dB", "viscous"), ("dG", "load_coefficient")):
         true = t4[name] - t3[name]
         est, se = p[key].value, p[key].stderr
-        # within T_BOUND (4.5) standard errors, or 5 % of the Table 3 value (the resolution asked of a refit)
+        # within T_BOUND standard errors, or 5 % of the Table 3 value (the resolution asked of a refit)
         assert abs(est - true) <= max(T_BOUND * se, 0.05 * t3[name]), (i + 1, key, est, se, true)
 
 
