@@ -23,7 +23,7 @@ level has to be configured:
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize
+from scipy import optimize, stats
 
 MAD_TO_SIGMA = 1.482602218505602  # 1 / Phi^-1(3/4): MAD -> sigma for a Gaussian
 
@@ -76,7 +76,7 @@ def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
 
 
 #: median of the chi-square distribution with one degree of freedom: median(z^2) for z ~ N(0, 1)
-CHI2_1_MEDIAN = 0.454936423119572
+CHI2_1_MEDIAN = float(stats.chi2.ppf(0.5, 1))
 
 
 def median_scale(r: np.ndarray, s: np.ndarray, extra: np.ndarray | None = None) -> float:

@@ -18,7 +18,7 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import analyse, residual_model
 from ebm_wear_monitor.diagnosis.recording import Resampled
-from ebm_wear_monitor.diagnosis.speed import local_slope
+from ebm_wear_monitor.diagnosis.speed import WINDOW_S, local_slope
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
 
@@ -40,6 +40,26 @@ def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():
     h = 1e-3
     _, f = local_slope(np.arange(50) * h, np.zeros(50), 3)
     assert f[25] == pytest.approx(12.0 / (h * h * 7 * 48), rel=1e-9)
+
+
+@pytest.mark.parametrize("rate", [200.0, 500.0, 1000.0, 2000.0])
+def test_an_acceleration_step_biases_the_speed_by_at_most_dA_h_over_4(rate):
+    """The bound behind the unresolved-transient torque (residuals._unresolved_torque): a step dA of the
+    acceleration inside the regression window (half-length h) biases the speed by at most dA h / 4; here a
+    motion decelerating at dA to a stop (a kink), the true speed analytic, the stop anywhere in an interval.
+    A window cut at the step (a phase run ending there) sees two exact quadratics and no bias."""
+    dt = 1.0 / rate
+    half = max(2, round(0.5 * WINDOW_S / dt))
+    a = 800.0  # deceleration before the stop [rad/s^2]
+    for frac in np.linspace(0.0, 0.9, 7):
+        t = np.arange(0.0, 0.2, dt)
+        t0 = 0.1 + frac * dt
+        w = np.where(t < t0, a * (t0 - t), 0.0)
+        angle = np.where(t < t0, -0.5 * a * (t0 - t) ** 2, 0.0)
+        bias = np.abs(local_slope(t, angle, half)[0] - w).max()
+        assert 0.25 * a * half * dt / 4.0 < bias <= a * half * dt / 4.0, frac
+        cut = (t >= t0).astype(int)
+        assert np.abs(local_slope(t, angle, half, cut)[0] - w).max() < 1e-9 * a * dt
 
 
 def _lagged(x: np.ndarray, tau: float, dt: float) -> np.ndarray:
