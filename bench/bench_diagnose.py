@@ -12,7 +12,7 @@ generator) with both confusion matrices and the issue's targets (``--jobs`` proc
 
     .venv/bin/python bench/bench_diagnose.py [--seconds 60]
     .venv/bin/python bench/bench_diagnose.py --selftest [--jobs 2] [--json OUT]
-    .venv/bin/python bench/bench_diagnose.py --second-draw [--jobs 2] [--json OUT]
+    .venv/bin/python bench/bench_diagnose.py --foreign-set full_b [--jobs 2] [--json OUT]
 """
 
 from __future__ import annotations
@@ -73,13 +73,13 @@ def speed(seconds: float) -> None:
           f"   target < 10 s on one core: {'met' if c_diag < 10.0 else 'NOT met'}")
 
 
-def selftest(jobs: int, out: str | None, second_draw: bool) -> None:
+def selftest(jobs: int, out: str | None, foreign_set: str | None) -> None:
     from ebm_wear_monitor.diagnosis.foreign_selftest import run_foreign
     from ebm_wear_monitor.diagnosis.selftest import format_summary, run_selftest
 
-    if second_draw:
-        f, wall, _cpu = timed(run_foreign, jobs=jobs, case_set_name="full_b")
-        result = f
+    if foreign_set:
+        result = f = timed(run_foreign, jobs=jobs, case_set_name=foreign_set)[0]
+        wall = f.seconds
     else:
         result, wall, _cpu = timed(run_selftest, quick=False, jobs=jobs)
         print(format_summary(result))
@@ -101,11 +101,12 @@ def main() -> None:
     ap.add_argument("--selftest", action="store_true", help="the full self-test of both worlds instead")
     ap.add_argument("--jobs", type=int, default=1, help="self-test: processes for the foreign cases")
     ap.add_argument("--json", help="self-test: write the result here")
-    ap.add_argument("--second-draw", action="store_true",
-                    help="self-test: only the foreign set's second draw (case set full_b, other seeds)")
+    ap.add_argument("--foreign-set", choices=("quick", "full", "full_b"),
+                    help="self-test of the foreign world only, on this case set (full_b: the full set's "
+                         "second draw, other seeds)")
     args = ap.parse_args()
-    if args.selftest or args.second_draw:
-        selftest(args.jobs, args.json, args.second_draw)
+    if args.selftest or args.foreign_set:
+        selftest(args.jobs, args.json, args.foreign_set)
     else:
         speed(args.seconds)
 
