@@ -63,14 +63,18 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
     of the material model error, in every channel where that error is material
-    (:meth:`Scorer.unexplained_share`).
+    (:meth:`Scorer.unexplained_share`);
+(e) consistent: it does not make the model materially wrong in a channel, the error it adds there
+    (in quadrature, held out) staying below the channel's materiality share (:func:`_worsens`): a
+    force-sensor gain that closes the force gap by putting a tenth of the load torque into the torque
+    residual explains nothing.
 
 **Forward selection** (up to three effects).  After the best single effect passing (a),
-(b) and (d), every other effect is fitted *together* with it and *on top of* it (the first
+(b), (d) and (e), every other effect is fitted *together* with it and *on top of* it (the first
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
-its addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b)
-and (d).  A third effect is then fitted on top of the two only (not jointly) and kept when
+its addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b),
+(d) and (e).  A third effect is then fitted on top of the two only (not jointly) and kept when
 it passes the same tests against them (at 0.05 / (K - 2)).
 ``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
 changes the twin's prediction most (:func:`contribution`).
@@ -823,12 +827,21 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
     return sc.cycle_sse(sc.base)
 
 
-def _supported(sc: Scorer, f: EffectFit, level: float) -> bool:
-    """Tests (a), (b) and (d) of the module docstring."""
-    if not (f.material and f.p_value < level and f.score > 0.0):
+def _supported(sc: Scorer, f: EffectFit, level: float, w_share: dict[str, float]) -> bool:
+    """Tests (a), (b), (d) and (e) of the module docstring (``w_share``: the model error of the twin
+    within its tolerance, :meth:`Scorer.unexplained_share`)."""
+    if not (f.material and f.p_value < level and f.score > 0.0) or _worsens(w_share, f.share):
         return False
     f.drift = drift_test(sc, f)
     return not f.drifting
+
+
+def _worsens(before: dict[str, float], after: dict[str, float]) -> bool:
+    """Test (e): the model error a change adds in some channel is material.  The shares are RMS errors
+    beyond the noise over the same held-out rows (:meth:`Scorer.unexplained_share`), so the error added
+    is their difference in quadrature, sqrt(after^2 - before^2), compared with the channel's
+    materiality share (:data:`.tolerance.MATERIAL_SHARE`)."""
+    return any(after[ch] ** 2 - before[ch] ** 2 > tolerance.MATERIAL_SHARE[ch] ** 2 for ch in CHANNELS)
 
 
 #: a friction effect drifts when its early and late sizes differ by more than this share of the larger: a
@@ -993,7 +1006,8 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
               ) -> tuple[EffectFit, EffectFit] | None:
     """The best supported addition to ``current``: per candidate effect the better-scoring of its fits
     with ``current`` (``options``: (single fit, its fits together with ``current``)); kept when it passes
-    (a) against ``current`` (held out, at ALPHA over the number of candidate effects), (b) and (d).
+    (a) against ``current`` (held out, at ALPHA over the number of candidate effects), (b), (d)
+    and (e).
 
     Returns (the fit of the model with the addition, the added effect's entry) or None.
     """
@@ -1005,7 +1019,8 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
         added = dataclasses.replace(f, theta=theta, stderr=se, size=float(f.effect.size(theta)),
                                     size_std=_size_std(f.effect, theta, se))
         p = together.p_value = improvement_p(current.z_heldout, together.z_heldout)
-        ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score
+        ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score \
+            and not _worsens(current.share, together.share)
         if ok:
             added.drift = drift_test(sc, added)
             ok = not added.drifting
@@ -1025,7 +1040,8 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
     best-scoring): the candidates of the ``unexplained`` test (does any effect, or pair, close half of
     the material gap at all?).
     """
-    first = next((f for f in fits if _supported(sc, f, level)), None)
+    w_share = sc.unexplained_share(sc.base)
+    first = next((f for f in fits if _supported(sc, f, level, w_share)), None)
     lead = first if first is not None else fits[0]
     options = [(f, _pairs(sc, lead, f, s_before, gap_before, nested=first is not None))
                for f in fits if f is not lead]
