@@ -152,3 +152,18 @@ def test_effects_in_different_channels_are_both_named():
     r = rank(sc, catalog(model))
     assert r.verdict == "effect"
     assert {"stiffness_nonlinearity", "viscous_friction"} <= {f.effect.name for f in r.selected}
+
+
+def test_a_change_that_makes_a_channel_materially_wrong_is_not_supported():
+    """Test (e): the error a change adds in a channel is the quadrature difference of the held-out
+    shares, judged against that channel's materiality share (2 % of the torque, 1 % of the force)."""
+    from ebm_wear_monitor.diagnosis.ranking import _worsens
+
+    # a force-sensor gain that closed the force gap of a foreign stiffness + Stribeck recording by putting
+    # 14 % of the motor torque into the torque residual (the quick foreign set, before test (e))
+    assert _worsens({"torque": 0.0117, "force": 0.0202}, {"torque": 0.1405, "force": 0.0098})
+    # 3.0 % -> 3.5 %: adds sqrt(3.5^2 - 3.0^2) = 1.8 % of the torque, below 2 %
+    assert not _worsens({"torque": 0.030, "force": 0.02}, {"torque": 0.035, "force": 0.0})
+    # 0.5 % -> 1.2 % of the force: adds 1.09 %, above 1 %
+    assert _worsens({"torque": 0.0, "force": 0.005}, {"torque": 0.0, "force": 0.012})
+    assert set(tolerance.MATERIAL_SHARE) == {"torque", "force"}
