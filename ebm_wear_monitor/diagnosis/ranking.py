@@ -1034,7 +1034,7 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
                     gap_before: float) -> tuple[list[EffectFit], EffectFit | None, list[EffectFit]]:
     """Best supported single effect, then, up to ``MAX_EFFECTS``, the best supported next one
     (:func:`_addition`): the second fitted together with the first or on top of it (:func:`_pairs`),
-    a third on top of the two.
+    the first then chosen again given the second (:func:`_rechoose_first`), a third on top of the two.
 
     Also returns every single effect and every pair with the lead effect (the supported one, else the
     best-scoring): the candidates of the ``unexplained`` test (does any effect, or pair, close half of
@@ -1055,10 +1055,41 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
             break
         current = step[0]
         selected.append(step[1])
+        if len(selected) == 2:
+            current, selected = _rechoose_first(sc, fits, current, selected, s_before=s_before,
+                                                gap_before=gap_before)
         names = {e.effect.name for e in selected}
         options = [(f, [extend(sc, current, f.effect, s_before, gap_before)])
                    for f in fits if f.effect.name not in names] if len(selected) < MAX_EFFECTS else []
     return selected, current, candidates
+
+
+def _rechoose_first(sc: Scorer, fits: list[EffectFit], current: EffectFit, selected: list[EffectFit], *,
+                    s_before: np.ndarray, gap_before: float) -> tuple[EffectFit, list[EffectFit]]:
+    """The floating step of forward selection (sequential floating forward selection): once a second
+    effect is in, the first is chosen again *given the second*, by the same rule that chose the second
+    given the first (:func:`_addition` on top of the second alone, every other effect a candidate).  A
+    greedy first choice can take part of the second effect's signature (an efficiency varying with
+    speed where a load friction and a Stribeck fall act together); the other pair replaces the selected
+    one when it scores higher on held-out cycles, its first effect stays material, and it does not make
+    a channel materially wrong beside the selected pair (test (e)).
+
+    Returns the model with the selected effects and the selected effects (changed or not)."""
+    second = selected[1]
+    alone = next(f for f in fits if f.effect.name == second.effect.name)
+    options = [(f, _pairs(sc, alone, f, s_before, gap_before, nested=True)) for f in fits if f is not alone]
+    step = _addition(sc, alone, options)
+    if step is None or step[1].effect.name == selected[0].effect.name or step[0].score <= current.score:
+        return current, selected
+    together, added = step
+    k = alone.effect.k
+    kept = dataclasses.replace(second, theta=together.theta[:k], stderr=together.stderr[:k],
+                               size=float(alone.effect.size(together.theta[:k])),
+                               size_std=_size_std(alone.effect, together.theta[:k], together.stderr[:k]))
+    if not kept.material or _worsens(current.share, together.share):
+        return current, selected
+    kept.contribution = contribution(sc, alone.effect, kept.theta)
+    return together, [kept, added]
 
 
 def separating_experiment(nom: ActuatorModel, a: EffectFit, b: EffectFit, *, max_speed: float,
