@@ -167,3 +167,21 @@ def test_a_change_that_makes_a_channel_materially_wrong_is_not_supported():
     # 0.5 % -> 1.2 % of the force: adds 1.09 %, above 1 %
     assert _worsens({"torque": 0.0, "force": 0.005}, {"torque": 0.0, "force": 0.012})
     assert set(tolerance.MATERIAL_SHARE) == {"torque", "force"}
+
+
+@pytest.mark.parametrize(("aug", "seed"), [
+    (Augment(dG=1.2e-5, stribeck_torque=0.15, stribeck_speed=20.0), 2),
+    (Augment(dG=0.8e-5, stribeck_torque=0.2, stribeck_speed=30.0), 1),
+    (Augment(dG=0.8e-5, stribeck_torque=0.2, stribeck_speed=30.0), 2)])
+def test_the_first_effect_is_chosen_again_given_the_second(aug, seed):
+    """Load friction and a Stribeck fall together.  Alone, an efficiency varying with speed (it nests load
+    friction) or a preload change takes part of both and scores first; greedy selection then kept it
+    (efficiency + Stribeck, preload + load friction), the floating step chooses the first again given
+    the second."""
+    sc, model = scorer(aug, seed=seed, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect"
+    assert {f.effect.name for f in r.selected} == {"load_friction", "stribeck"}
+    load = next(f for f in r.selected if f.effect.name == "load_friction")
+    true = aug.dG / NOM.friction.load_coefficient
+    assert abs(load.size - true) <= max(4.0 * load.size_std, 0.1 * true), (load.size, load.size_std, true)
