@@ -74,8 +74,9 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
 its addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b),
-(d) and (e).  A third effect is then fitted on top of the two only (not jointly) and kept when
-it passes the same tests against them (at 0.05 / (K - 2)).
+(d) and (e).  The first is then chosen again given the second, by the same rule (the floating
+step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
+jointly) and kept when it passes the same tests against them (at 0.05 / (K - 2)).
 ``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
 changes the twin's prediction most (:func:`contribution`).
 
