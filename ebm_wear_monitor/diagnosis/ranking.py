@@ -39,7 +39,7 @@ Torque rows of blocks at rest are left out of the gap (their stick-branch residu
 is zero by construction).  **Score** (ranking) = (S_before - S_after - 2k) / S_before
 with S the held-out sum of z^2 and k the effect's parameter count.
 
-**Three tests for an effect to count** (issue 10, items 3-5):
+**Tests for an effect to count** (issue 10, items 3-5):
 
 (a) statistical: the held-out improvement over W_E, the twin within its tolerance with the
     effect's own budget entries held at zero (the model the effect extends: a nested
@@ -797,6 +797,7 @@ class Ranking:
 
     fits: list[EffectFit]  # single effects, best first
     selected: list[EffectFit]  # forward selection: the effects the data support, in order of selection
+    # (the floating step, :func:`_rechoose_first`, may list the second before the re-chosen first)
     joint: EffectFit | None  # the selected effects fitted together (None when none is selected)
     best_pair_shrink: float  # largest share of the material gap a single effect or greedy pair closes
     gap_before: float  # held-out gap of the nominal twin as given (nuisances fitted, no tolerance deviation)
@@ -1071,11 +1072,14 @@ def _rechoose_first(sc: Scorer, fits: list[EffectFit], current: EffectFit, selec
     effect is in, the first is chosen again *given the second*, by the same rule that chose the second
     given the first (:func:`_addition` on top of the second alone, every other effect a candidate).  A
     greedy first choice can take part of the second effect's signature (an efficiency varying with
-    speed where a load friction and a Stribeck fall act together); the other pair replaces the selected
-    one when it scores higher on held-out cycles, its first effect stays material, and it does not make
-    a channel materially wrong beside the selected pair (test (e)).
+    speed where a load friction and a Stribeck fall act together).  The other pair replaces the selected
+    one when it scores higher on held-out cycles, does not make a channel materially wrong beside the
+    selected pair (test (e)), and the second effect still earns its place beside the re-chosen first:
+    material (b), its addition to the re-chosen first alone significant (a) and not making a channel
+    materially wrong (e), as if the re-chosen effect had been chosen first.
 
-    Returns the model with the selected effects and the selected effects (changed or not)."""
+    Returns the model with the selected effects and the selected effects (changed or not; after a
+    change the second effect is listed first, in the order of the model's parameters)."""
     second = selected[1]
     alone = next(f for f in fits if f.effect.name == second.effect.name)
     options = [(f, _pairs(sc, alone, f, s_before, gap_before, nested=True)) for f in fits if f is not alone]
@@ -1087,7 +1091,10 @@ def _rechoose_first(sc: Scorer, fits: list[EffectFit], current: EffectFit, selec
     kept = dataclasses.replace(second, theta=together.theta[:k], stderr=together.stderr[:k],
                                size=float(alone.effect.size(together.theta[:k])),
                                size_std=_size_std(alone.effect, together.theta[:k], together.stderr[:k]))
-    if not kept.material or _worsens(current.share, together.share):
+    first = next(f for f in fits if f.effect.name == added.effect.name)
+    earns = kept.material and together.score > first.score and not _worsens(first.share, together.share) \
+        and improvement_p(first.z_heldout, together.z_heldout) < ALPHA / max(len(fits) - 1, 1)
+    if not earns or _worsens(current.share, together.share):
         return current, selected
     kept.contribution = contribution(sc, alone.effect, kept.theta)
     return together, [kept, added]
