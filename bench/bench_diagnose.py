@@ -12,7 +12,7 @@ generator) with both confusion matrices and the issue's targets (``--jobs`` proc
 
     .venv/bin/python bench/bench_diagnose.py [--seconds 60]
     .venv/bin/python bench/bench_diagnose.py --selftest [--jobs 2] [--json OUT]
-    .venv/bin/python bench/bench_diagnose.py --foreign-set full_b [--jobs 2] [--json OUT]
+    .venv/bin/python bench/bench_diagnose.py --foreign-set full_b|full_c [--jobs 2] [--json OUT]
 """
 
 from __future__ import annotations
@@ -101,9 +101,9 @@ def main() -> None:
     ap.add_argument("--selftest", action="store_true", help="the full self-test of both worlds instead")
     ap.add_argument("--jobs", type=int, default=1, help="self-test: processes for the foreign cases")
     ap.add_argument("--json", help="self-test: write the result here")
-    ap.add_argument("--foreign-set", choices=("quick", "full", "full_b"),
-                    help="self-test of the foreign world only, on this case set (full_b: the full set's "
-                         "second draw, other seeds)")
+    ap.add_argument("--foreign-set", choices=("quick", "full", "full_b", "full_c"),
+                    help="self-test of the foreign world only, on this case set (full_b, full_c: the full "
+                         "set's second and third draws, other seeds)")
     args = ap.parse_args()
     if args.selftest or args.foreign_set:
         selftest(args.jobs, args.json, args.foreign_set)
