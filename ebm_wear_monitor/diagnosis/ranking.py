@@ -918,7 +918,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     def closes_half(f: EffectFit) -> bool:
         return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
 
-    selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before)
+    selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before, w_share=share)
     if joint is not None:
         verdict = "effect" if closes_half(joint) else "unexplained"
     elif material and not any(closes_half(f) for f in candidates):
@@ -1033,16 +1033,17 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
 
 
 def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: np.ndarray,
-                    gap_before: float) -> tuple[list[EffectFit], EffectFit | None, list[EffectFit]]:
+                    gap_before: float, *, w_share: dict[str, float]
+                    ) -> tuple[list[EffectFit], EffectFit | None, list[EffectFit]]:
     """Best supported single effect, then, up to ``MAX_EFFECTS``, the best supported next one
     (:func:`_addition`): the second fitted together with the first or on top of it (:func:`_pairs`),
     the first then chosen again given the second (:func:`_rechoose_first`), a third on top of the two.
 
     Also returns every single effect and every pair with the lead effect (the supported one, else the
     best-scoring): the candidates of the ``unexplained`` test (does any effect, or pair, close half of
-    the material gap at all?).
+    the material gap at all?).  ``w_share``: the model error of the twin within its tolerance
+    (:meth:`Scorer.unexplained_share`), the baseline of test (e) for the first effect.
     """
-    w_share = sc.unexplained_share(sc.base)
     first = next((f for f in fits if _supported(sc, f, level, w_share)), None)
     lead = first if first is not None else fits[0]
     options = [(f, _pairs(sc, lead, f, s_before, gap_before, nested=first is not None))
