@@ -33,6 +33,7 @@ from ebm_wear_monitor.diagnosis.bags import recordings_from_bags  # noqa: E402
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording  # noqa: E402
 from ebm_wear_monitor.params import load_unit  # noqa: E402
 from ebm_wear_monitor.twin import simulate_current_driven, simulate_unit  # noqa: E402
+from ebm_wear_monitor.validation.foreign.cases import DIAGNOSIS_SETS  # noqa: E402
 
 #: the issue's targets on the foreign set
 TARGETS = {"top1_accuracy": 0.9, "false_positive_rate": 0.0, "median_shrink": 0.7,
@@ -101,7 +102,7 @@ def main() -> None:
     ap.add_argument("--selftest", action="store_true", help="the full self-test of both worlds instead")
     ap.add_argument("--jobs", type=int, default=1, help="self-test: processes for the foreign cases")
     ap.add_argument("--json", help="self-test: write the result here")
-    ap.add_argument("--foreign-set", choices=("quick", "full", "full_b", "full_c"),
+    ap.add_argument("--foreign-set", choices=DIAGNOSIS_SETS,
                     help="self-test of the foreign world only, on this case set (full_b, full_c: the full "
                          "set's second and third draws, other seeds)")
     args = ap.parse_args()

@@ -45,3 +45,6 @@ def test_quick_selftest_foreign_world(result):
     # torque weighting lets the twin's tolerance budget absorb this set's backlash (its model error falls
     # from 5.0 % to 1.2 % of the RMS motor torque, under the 2 % materiality floor: verdict none)
     assert f.unexplained_accuracy >= 0.25
+    # 1 of the 3 pairs exactly named (load friction + viscous reads load friction alone; stiffness +
+    # Stribeck adds clearance growth as a third effect): the selection's guard on the other world
+    assert f.pair_accuracy is not None and f.pair_accuracy >= 1 / 3

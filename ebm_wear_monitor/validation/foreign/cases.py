@@ -318,11 +318,11 @@ def _multirate_cases() -> list[Case]:
     return cases
 
 
-SETS = ("quick", "full", "full_b", "full_c", "life", "multirate")
-
-
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c")}
+#: the diagnosis case sets (:func:`case_set`): the quick set and the full set's draws
+DIAGNOSIS_SETS = ("quick", *DRAWS)
+SETS = (*DIAGNOSIS_SETS, "life", "multirate")
 
 
 def case_set(name: str) -> list[Case]:
