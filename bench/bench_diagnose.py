@@ -12,7 +12,7 @@ generator) with both confusion matrices and the issue's targets (``--jobs`` proc
 
     .venv/bin/python bench/bench_diagnose.py [--seconds 60]
     .venv/bin/python bench/bench_diagnose.py --selftest [--jobs 2] [--json OUT]
-    .venv/bin/python bench/bench_diagnose.py --foreign-set full_b|full_c [--jobs 2] [--json OUT]
+    .venv/bin/python bench/bench_diagnose.py --foreign-set full_b|full_c|outside [--jobs 2] [--json OUT]
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ def main() -> None:
     ap.add_argument("--json", help="self-test: write the result here")
     ap.add_argument("--foreign-set", choices=DIAGNOSIS_SETS,
                     help="self-test of the foreign world only, on this case set (full_b, full_c: the full "
-                         "set's second and third draws, other seeds)")
+                         "set's second and third draws, other seeds; outside: 40 cases outside the catalog)")
     args = ap.parse_args()
     if args.selftest or args.foreign_set:
         selftest(args.jobs, args.json, args.foreign_set)

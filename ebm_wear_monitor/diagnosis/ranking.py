@@ -56,9 +56,11 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 (b) practical: its fitted size exceeds its detectability floor (:mod:`.tolerance`, from
     the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor;
 (d) stationary: a friction effect is a property of the unit and must hold over the
-    recording: refitted on the early and on the late half of the calibration cycles, its size
-    must not differ by more than its floor, three standard deviations and half of itself
-    (:func:`drift_test`);
+    recording.  It drifts (fails) when, refitted on the early and on the late half of the brake
+    cycles, its sizes differ by more than its floor and three standard deviations, and its size
+    per cycle also trends with time once the operating mix is regressed out (at ``DRIFT_ALPHA``:
+    the catalog's form fits a real effect only approximately, so its size depends on the
+    operating mix of a half too; :func:`drift_test`).
     friction that drifts within minutes (warming grease) is outside the catalog.  Clearance
     (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
@@ -82,7 +84,10 @@ changes the twin's prediction most (:func:`contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
-pair closes half of it, and ``none`` when it is not material: the twin explains the
+pair closes half of it, or when an effect passes (a), (b) and (e) and fails only (d): a
+significant friction change of material size that does not hold over the recording is
+no catalog effect (a catalog effect is a property of the unit), whatever share of the
+model error the twin within its tolerance leaves; ``none`` otherwise: the twin explains the
 data within its tolerance.  Then structure the catalog cannot represent is looked for
 (:mod:`.openset`): a significant torque as a function of the screw angle that removes more of the
 explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
@@ -107,7 +112,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize
+from scipy import optimize, stats
 
 from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
@@ -505,6 +510,8 @@ class Fit:
     stderr: np.ndarray  # their cluster-robust standard errors
     model: Model  # the fitted model, nuisances and tolerance deviations included
     nuisance_std: dict[str, float]  # cluster-robust standard errors of the fitted nuisances
+    z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # normalised residual of the fitted rows
+    jac: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))  # dz/d(effect parameters), per unit
 
 
 def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, ...]
@@ -602,7 +609,8 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     cov = bread @ (scores.T @ scores) @ bread
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
-    return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)))
+    return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
+               z, J[:, :k] / scale[:k])
 
 
 NUISANCE_ONLY = Effect("acquisition", "acquisition nuisances only", (), (), lambda p: NOMINAL, (), ((),),
@@ -846,10 +854,9 @@ def _worsens(before: dict[str, float], after: dict[str, float]) -> bool:
     return any(after[ch] ** 2 - before[ch] ** 2 > tolerance.MATERIAL_SHARE[ch] ** 2 for ch in CHANNELS)
 
 
-#: a friction effect drifts when its early and late sizes differ by more than this share of the larger: a
-#: real effect's form differs from the catalog's, so its fitted size depends on the operating mix by a
-#: fraction of itself; a drift that changes it by half is no such fraction
-DRIFT_SHARE = 0.5
+#: a friction effect drifts only when its size changes with time beyond the operating mix, at this level
+#: (two-sided; :func:`_time_trend_p`)
+DRIFT_ALPHA = 0.01
 
 #: effects whose size may change within a recording: clearance grows with wear, a sensor drifts with
 #: temperature; the friction effects are properties of the unit that must hold over the recording
@@ -859,27 +866,96 @@ MAY_DRIFT = frozenset({"clearance_growth", "force_sensor_bias", "stiffness_nonli
 def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     """Does a friction effect hold over the recording?  Refit on the early and the late half (module doc).
 
-    The calibration cycles are split at their median time; the effect's parameters alone are refitted
-    on each half (nuisances and tolerances as fitted on all).  The effect drifts when its size differs
-    between the halves by more than its floor, by more than three standard deviations, and by more
-    than ``DRIFT_SHARE`` of the larger size.
+    The brake cycles (calibration and held-out: this tests a property of the unit, not the held-out fit)
+    are split at their median time; the effect's parameters alone are refitted on each half (nuisances
+    and tolerances as fitted on the calibration cycles).  The effect drifts when its size differs between
+    the halves by more than its floor and by more than three standard deviations, and when its size
+    trends with time beyond what the operating mix explains (:func:`_time_trend_p`): a real effect's form
+    differs from the catalog's, so its fitted size also depends on the demands and speeds a half happens
+    to hold, by an amount the data set, not a share assumed in advance.  With fewer than six cycles
+    the trend cannot be tested and no effect drifts.
     """
     if f.effect.name in MAY_DRIFT or f.effect.k == 0:
         return None
-    cal = sc.split.calibration
-    cycles = np.unique(sc.model.blocks.cycle[cal])
+    mask = np.ones(sc.model.blocks.size, bool)  # every cycle: calibration and held out
+    cycle = sc.model.blocks.cycle
+    cycles = np.unique(cycle[mask])
     if cycles.size < 4:
         return None
-    cut = np.median(cycles)
+    early = cycles <= np.median(cycles)
     sizes, errs = [], []
-    for half in (cycles[cycles <= cut], cycles[cycles > cut]):
-        mask = cal & np.isin(sc.model.blocks.cycle, half)
-        g = fit(sc, f.effect, f.model, mask=mask, only_effect=True)
+    for half in (cycles[early], cycles[~early]):
+        g = fit(sc, f.effect, f.model, mask=mask & np.isin(cycle, half), only_effect=True)
         sizes.append(float(f.effect.size(g.theta)))
         errs.append(_size_std(f.effect, g.theta, g.stderr))
     diff, sd = sizes[1] - sizes[0], float(np.hypot(errs[0], errs[1]))
-    drifting = abs(diff) > max(f.floor, DRIFT_SHARE * max(sizes), 3.0 * sd)
-    return Drift(sizes[0], sizes[1], sd, bool(drifting))
+    p = _time_trend_p(sc, f, mask, cycles)
+    drifting = abs(diff) > max(f.floor, 3.0 * sd) and p < DRIFT_ALPHA
+    return Drift(sizes[0], sizes[1], sd, p, bool(drifting))
+
+
+def _time_trend_p(sc: Scorer, f: EffectFit, mask: np.ndarray, cycles: np.ndarray) -> float:
+    """p-value (two-sided) of a trend with time in the effect's size per cycle, the operating mix held.
+
+    The effect's parameters are refitted on all ``cycles`` (nuisances and tolerances kept) and linearised
+    there: with J = dz/dtheta (the fit's Jacobian) and z the normalised residual, per cycle
+    A_c = J_c' J_c and b_c = J_c' z_c; the fit on cycle c alone is one Gauss-Newton step,
+    theta_c = theta - A_c^+ b_c (exact for an effect linear in its parameters), and its size, to first
+    order, s_c = size(theta) - g' A_c^+ b_c with variance v_c = g' A_c^+ g in noise units (g: the
+    gradient of the size; the constant size(theta) is left to the regression's intercept).  The sizes
+    are regressed, weights 1 / v_c, on a constant, the cycle's time, its peak clamp force and its peak
+    speed; the time coefficient is tested with a standard error robust to the scatter the weights do not
+    describe (:func:`trend_p`).  Where the demands themselves change with time, time and mix are
+    collinear and the test loses its power instead of charging the mix to time; a size depending on the
+    demand other than linearly is only partly held (the early/late gates of :func:`drift_test` then
+    guard).  1 with fewer than six cycles.
+    """
+    e, channels = f.effect, f.effect.channels
+    if cycles.size < 6:
+        return 1.0
+    g = fit(sc, e, f.model, mask=mask, only_effect=True)
+    J, z0 = g.jac, g.z
+    hs = [1e-6 * max(abs(float(g.theta[i])), float(e.scale[i])) for i in range(e.k)]
+    unit = np.eye(e.k)
+    grad = np.array([(e.size(g.theta + h * unit[i]) - e.size(g.theta - h * unit[i])) / (2.0 * h)
+                     for i, h in enumerate(hs)])
+    pos = np.searchsorted(cycles, sc.row_cycles(mask, channels))
+    A = np.zeros((cycles.size, e.k, e.k))
+    b = np.zeros((cycles.size, e.k))
+    np.add.at(A, pos, J[:, :, None] * J[:, None, :])
+    np.add.at(b, pos, J * z0[:, None])
+    Ainv = np.linalg.pinv(A)
+    blocks = sc.model.blocks
+    of = [np.flatnonzero(blocks.cycle == c) for c in cycles]  # the blocks of each cycle
+    mix = np.array([[blocks.force[i].max(), blocks.speed[i].max()] for i in of])
+    return trend_p(-np.einsum("k,ckl,cl->c", grad, Ainv, b), np.einsum("k,ckl,l->c", grad, Ainv, grad),
+                   np.array([sc.model.rec.t[blocks.start[i[0]]] for i in of]), mix)
+
+
+def trend_p(s: np.ndarray, v: np.ndarray, time: np.ndarray, mix: np.ndarray) -> float:
+    """Two-sided p-value of the time coefficient in the regression of ``s`` on a constant, ``time`` and the
+    columns of ``mix``, weighted by the stated variances ``v``; 1 when no scatter is left to test against.
+
+    The scatter of a catalog form fitted to another form is not proportional to ``v`` (it comes from the
+    mismatch, not from the noise), so the standard error is heteroscedasticity-robust (HC3: each
+    squared residual divided by (1 - h_i)^2, h_i its leverage; MacKinnon and White 1985), the statistic
+    Student t with n - 2 - (mix columns) degrees of freedom.
+    """
+    ok = v > 0.0
+    X = np.column_stack([np.ones(time.size), *((x - x.mean()) / (x.std() or 1.0)
+                                              for x in (time, *np.asarray(mix, dtype=float).T))])[ok]
+    n, q = X.shape
+    if n - q < 2:
+        return 1.0
+    w = 1.0 / np.sqrt(v[ok])
+    Xw = X * w[:, None]
+    bread = np.linalg.pinv(Xw.T @ Xw)
+    beta = bread @ Xw.T @ (s[ok] * w)
+    resid = s[ok] * w - Xw @ beta
+    leverage = np.clip(np.einsum("ij,jk,ik->i", Xw, bread, Xw), 0.0, 1.0 - 1e-9)
+    meat = (Xw * (resid / (1.0 - leverage))[:, None] ** 2).T @ Xw
+    se = float(np.sqrt(max((bread @ meat @ bread)[1, 1], 0.0)))
+    return float(2.0 * stats.t.sf(abs(beta[1]) / se, n - q)) if se > 0.0 else 1.0
 
 
 def ranked_fits(sc: Scorer, catalog: dict[str, Effect], *, tested: bool = True,
@@ -921,7 +997,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before, w_share=share)
     if joint is not None:
         verdict = "effect" if closes_half(joint) else "unexplained"
-    elif material and not any(closes_half(f) for f in candidates):
+    elif (material and not any(closes_half(f) for f in candidates)) or any(f.drifting for f in fits):
         verdict = "unexplained"
     else:
         verdict = "none"

@@ -80,12 +80,15 @@ class Size(Record):
 
 @dataclass(frozen=True)
 class Drift(Record):
-    """A friction effect refitted on the early and the late half of the calibration cycles."""
+    """A friction effect refitted on the early and the late half of the brake cycles."""
 
     early: float = quantity(GIVEN, "size on the early half, in the size's unit", json="early")
     late: float = quantity(GIVEN, "size on the late half", json="late")
     std: float = quantity(GIVEN, "standard deviation of late - early", json="std")
-    drifting: bool = quantity("", "the sizes differ beyond floor, 3 std and half the larger", json="drifting")
+    p_value: float = quantity("-", "two-sided p-value of a trend with time in the size per cycle, the "
+                              "operating mix (peak force, peak speed) held", json="p_value")
+    drifting: bool = quantity("", "the sizes differ beyond the floor and 3 std, and the trend is "
+                              "significant (p_value below ranking.DRIFT_ALPHA)", json="drifting")
 
 
 @dataclass(frozen=True)

@@ -31,11 +31,13 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0,
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
-          drive_gain: float = 0.0) -> Resampled:
+          drive_gain: float = 0.0, dG_drift: float = 0.0) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
-    torque constant (more current for the same torque: an effect outside the catalog).
+    torque constant (more current for the same torque: an effect outside the catalog); ``dG_drift``
+    [N m/N] a load-friction coefficient growing linearly from 0 in the first cycle to ``dG_drift`` in
+    the last (friction drifting within the recording: outside the catalog too).
     """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
@@ -43,7 +45,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
         noise = {"angle": 1e-4, "velocity": 0.05, "axial_force": 30.0, "current": 0.03}  # 12-bit resolver
     parts = []
     t0 = 0.0
-    for _ in range(cycles):
+    for c in range(cycles):
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)
         x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness
@@ -55,9 +57,9 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
             x = xa + (xb - xa) * p
             xd = (xb - xa) * v / dur
             xdd = (xb - xa) * a / dur**2
-            parts.append((t0 + t, x, xd, xdd))
+            parts.append((t0 + t, x, xd, xdd, np.full(t.size, c / max(cycles - 1, 1))))
             t0 += dur
-    t, x, xd, xdd = (np.concatenate(c) for c in zip(*parts, strict=True))
+    t, x, xd, xdd, age = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
     w_m = nom.gear_ratio * k * xd
     d = np.maximum(x - nom.clamp.clearance - aug.clearance, 0.0)  # pad compression [m]
@@ -66,7 +68,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     speed = np.abs(w_m)
     # 004 eq. 9 sliding branch with the catalog's corrections (efficiency, Stribeck)
     law = nom.friction
-    T_f = np.sign(w_m) * (law.coulomb + aug.dT_fc + (law.load_coefficient + aug.dG) * F_true
+    T_f = np.sign(w_m) * (law.coulomb + aug.dT_fc + (law.load_coefficient + aug.dG + dG_drift * age) * F_true
                           + (law.viscous + aug.dB) * speed
                           + T_L * (aug.eff_base + aug.eff_speed * speed)
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))

@@ -252,19 +252,27 @@ def _effect_cases(seed0: int, *, forms_per_effect: int, variants: int, small: bo
                                       ((name, form, _magnitude(rng, name, small=True)),),
                                       VARIANTS[k % len(VARIANTS)]))
             k += 1
-    for name in OUTSIDE:
-        forms = list(FORMS[name])
-        for v in range(outside_per_kind):
-            form = forms[v % len(forms)]
-            cases.append(_effect_case(f"{name}.{form}.{v}", seed0 + k,
-                                      ((name, form, _magnitude(rng, name)),),
-                                      VARIANTS[k % len(VARIANTS)]))
-            k += 1
+    outside = _outside_cases(rng, seed0, k, outside_per_kind)
+    cases += outside
+    k += len(outside)
     for j, pair in enumerate(PAIRS[:pairs]):
         pair_forms = tuple((name, form, _magnitude(rng, name)) for name, form in pair)
         cases.append(_effect_case(f"pair.{pair[0][0]}+{pair[1][0]}.{j}", seed0 + k, pair_forms,
                                   VARIANTS[k % len(VARIANTS)]))
         k += 1
+    return cases
+
+
+def _outside_cases(rng: np.random.Generator, seed0: int, k0: int, per_kind: int) -> list[Case]:
+    """``per_kind`` cases of every effect outside the catalog, forms alternating; the k-th case of a set
+    (from ``k0``) has seed ``seed0 + k`` and the k-th controller variant."""
+    cases: list[Case] = []
+    for name in OUTSIDE:
+        forms = list(FORMS[name])
+        for v in range(per_kind):
+            form, k = forms[v % len(forms)], k0 + len(cases)
+            cases.append(_effect_case(f"{name}.{form}.{v}", seed0 + k, ((name, form, _magnitude(rng, name)),),
+                                      VARIANTS[k % len(VARIANTS)]))
     return cases
 
 
@@ -321,7 +329,9 @@ def _multirate_cases() -> list[Case]:
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c")}
 #: the diagnosis case sets (:func:`case_set`): the quick set and the full set's draws
-DIAGNOSIS_SETS = ("quick", *DRAWS)
+#: the outside-catalog draw: seed of its cases, cases per effect outside the catalog
+OUTSIDE_DRAW = (11000, 10)
+DIAGNOSIS_SETS = ("quick", *DRAWS, "outside")
 SETS = (*DIAGNOSIS_SETS, "life", "multirate")
 
 
@@ -336,9 +346,11 @@ def case_set(name: str) -> list[Case]:
     had been chosen on ``full``; ``full_c``: a third draw, first run after the floating step of the
     selection had been written from a miss on ``full_b``. ``life``: 12 long recordings (150-240
     applications) of healthy units whose true clearance follows a schedule (``LIFE``).
-    ``multirate``: 6 recordings with angle and velocity at 2 kHz, force at 1 kHz, current at 500 Hz,
-    namespace /train5/car3/embu2, log lag up to 1.6 ms (3 no-effect, 3 with one catalog effect).
-    Unknown names raise ``ValueError``.
+    ``outside``: 40 recordings of the effects outside the catalog (10 per effect, forms alternating),
+    a fourth draw for the open-set target, first run after the drift test had been rewritten from a
+    miss on ``quick``.  ``multirate``: 6 recordings with angle and velocity at 2 kHz, force at 1 kHz,
+    current at 500 Hz, namespace /train5/car3/embu2, log lag up to 1.6 ms (3 no-effect, 3 with one
+    catalog effect).  Unknown names raise ``ValueError``.
     """
     if name == "quick":
         return _none_cases(6, 1000, "none_q") + _effect_cases(
@@ -347,6 +359,9 @@ def case_set(name: str) -> list[Case]:
         none0, effects0, prefix = DRAWS[name]
         return _none_cases(30, none0, prefix) + _effect_cases(
             effects0, forms_per_effect=2, variants=2, small=True, outside_per_kind=2, pairs=10)
+    if name == "outside":
+        seed0, per_kind = OUTSIDE_DRAW
+        return _outside_cases(np.random.default_rng(seed0), seed0, 0, per_kind)
     if name == "life":
         return _life_cases()
     if name == "multirate":
