@@ -456,9 +456,7 @@ def contact_spread(model: ResidualModel, r_force: np.ndarray, sigma: np.ndarray)
     """
     b = model.blocks
     contact = b.force > model.seg.force_rise
-    peak = np.zeros(int(b.cycle.max()) + 1)
-    np.maximum.at(peak, b.cycle, b.force)
-    low = contact & (b.force < 0.3 * peak[b.cycle])
+    low = contact & (b.force < 0.3 * b.cycle_max(b.force)[b.cycle])
     means, noise = [], []
     for c in np.unique(b.cycle[low]):
         k = low & (b.cycle == c)
@@ -877,24 +875,23 @@ def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     """
     if f.effect.name in MAY_DRIFT or f.effect.k == 0:
         return None
-    mask = np.ones(sc.model.blocks.size, bool)  # every cycle: calibration and held out
     cycle = sc.model.blocks.cycle
-    cycles = np.unique(cycle[mask])
+    cycles = np.unique(cycle)  # every cycle: calibration and held out
     if cycles.size < 4:
         return None
     early = cycles <= np.median(cycles)
     sizes, errs = [], []
     for half in (cycles[early], cycles[~early]):
-        g = fit(sc, f.effect, f.model, mask=mask & np.isin(cycle, half), only_effect=True)
+        g = fit(sc, f.effect, f.model, mask=np.isin(cycle, half), only_effect=True)
         sizes.append(float(f.effect.size(g.theta)))
         errs.append(_size_std(f.effect, g.theta, g.stderr))
     diff, sd = sizes[1] - sizes[0], float(np.hypot(errs[0], errs[1]))
-    p = _time_trend_p(sc, f, mask, cycles)
+    p = _time_trend_p(sc, f, cycles)
     drifting = abs(diff) > max(f.floor, 3.0 * sd) and p < DRIFT_ALPHA
     return Drift(sizes[0], sizes[1], sd, p, bool(drifting))
 
 
-def _time_trend_p(sc: Scorer, f: EffectFit, mask: np.ndarray, cycles: np.ndarray) -> float:
+def _time_trend_p(sc: Scorer, f: EffectFit, cycles: np.ndarray) -> float:
     """p-value (two-sided) of a trend with time in the effect's size per cycle, the operating mix held.
 
     The effect's parameters are refitted on all ``cycles`` (nuisances and tolerances kept) and linearised
@@ -913,6 +910,8 @@ def _time_trend_p(sc: Scorer, f: EffectFit, mask: np.ndarray, cycles: np.ndarray
     e, channels = f.effect, f.effect.channels
     if cycles.size < 6:
         return 1.0
+    blocks = sc.model.blocks
+    mask = np.ones(blocks.size, bool)
     g = fit(sc, e, f.model, mask=mask, only_effect=True)
     J, z0 = g.jac, g.z
     hs = [1e-6 * max(abs(float(g.theta[i])), float(e.scale[i])) for i in range(e.k)]
@@ -925,11 +924,10 @@ def _time_trend_p(sc: Scorer, f: EffectFit, mask: np.ndarray, cycles: np.ndarray
     np.add.at(A, pos, J[:, :, None] * J[:, None, :])
     np.add.at(b, pos, J * z0[:, None])
     Ainv = np.linalg.pinv(A)
-    blocks = sc.model.blocks
-    of = [np.flatnonzero(blocks.cycle == c) for c in cycles]  # the blocks of each cycle
-    mix = np.array([[blocks.force[i].max(), blocks.speed[i].max()] for i in of])
+    start = -blocks.cycle_max(-sc.model.rec.t[blocks.start])[cycles]  # each cycle's first block [s]
+    mix = np.column_stack([blocks.cycle_max(blocks.force)[cycles], blocks.cycle_max(blocks.speed)[cycles]])
     return trend_p(-np.einsum("k,ckl,cl->c", grad, Ainv, b), np.einsum("k,ckl,l->c", grad, Ainv, grad),
-                   np.array([sc.model.rec.t[blocks.start[i[0]]] for i in of]), mix)
+                   start, mix)
 
 
 def trend_p(s: np.ndarray, v: np.ndarray, time: np.ndarray, mix: np.ndarray) -> float:

@@ -221,6 +221,12 @@ class Blocks:
         """Block mean of the per-sample ``y`` (:func:`block_mean`)."""
         return block_mean(y, self.start, self.stop)
 
+    def cycle_max(self, y: np.ndarray) -> np.ndarray:
+        """Largest per-block ``y`` of each brake cycle, indexed by cycle (-inf for a cycle with no block)."""
+        out = np.full(int(self.cycle.max()) + 1, -np.inf)
+        np.maximum.at(out, self.cycle, y)
+        return out
+
 
 def make_blocks(seg: Segmentation, speed: np.ndarray, force: np.ndarray, moving: np.ndarray,
                 n_per_block: int) -> Blocks:

@@ -228,7 +228,29 @@ def test_a_change_that_makes_a_channel_materially_wrong_is_not_supported():
     assert not _worsens({"torque": 0.030, "force": 0.02}, {"torque": 0.035, "force": 0.0})
     # 0.5 % -> 1.2 % of the force: adds 1.09 %, above 1 %
     assert _worsens({"torque": 0.0, "force": 0.005}, {"torque": 0.0, "force": 0.012})
-    assert set(tolerance.MATERIAL_SHARE) == {"torque", "force"}
+
+
+def test_test_e_guards_the_first_effect_and_every_addition(monkeypatch):
+    """Test (e) is asked for the first effect (against the twin within its tolerance) and for the second
+    (against the first); when it fails, nothing is selected."""
+    from ebm_wear_monitor.diagnosis import ranking
+
+    sc, model = scorer(Augment(clearance=4e-5, dG=1.2e-5), seed=6, cycles=12)
+    asked = []
+    real = ranking._worsens
+
+    def spy(before, after):
+        asked.append(dict(before))
+        return real(before, after)
+
+    monkeypatch.setattr(ranking, "_worsens", spy)
+    r = rank(sc, catalog(model))
+    assert len(r.selected) == 2
+    assert r.unexplained_share in asked  # the first effect, against W
+    first = next(f for f in r.fits if f.effect.name == r.selected[0].effect.name)
+    assert first.share in asked  # the addition, against the first
+    monkeypatch.setattr(ranking, "_worsens", lambda before, after: True)
+    assert rank(sc, catalog(model)).selected == []
 
 
 @pytest.mark.parametrize(("aug", "seed"), [

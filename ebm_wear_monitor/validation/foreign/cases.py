@@ -328,9 +328,9 @@ def _multirate_cases() -> list[Case]:
 
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c")}
-#: the diagnosis case sets (:func:`case_set`): the quick set and the full set's draws
 #: the outside-catalog draw: seed of its cases, cases per effect outside the catalog
 OUTSIDE_DRAW = (11000, 10)
+#: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draw
 DIAGNOSIS_SETS = ("quick", *DRAWS, "outside")
 SETS = (*DIAGNOSIS_SETS, "life", "multirate")
 
