@@ -45,6 +45,17 @@ fraction of the nominal parameter it changes, metres of clearance), which
   largest clamp deflection d_max, |2 k_2 d_max| / K_b;
 * clearance_growth: |dx| [m]; force_sensor_bias: |g| (a fraction of the reading).
 
+**Look-alikes.**  One cause outside the catalog is, with the four recorded signals, the same
+data as a catalog effect, so the diagnosis names the effect and says what else it can be:
+
+* clearance_growth: a play (backlash) between the motor and the screw, when the angle is measured
+  on the motor side.  004 eq. 5 sees the nut travel only through the recorded angle, so any lost
+  motion between the angle sensor and the pads delays contact by the same angle; what tells a play
+  apart is the friction downstream of it that the motor does not feel while crossing it, some
+  milliseconds at the start of an application and after contact is lost, which the block residuals
+  do not resolve.  Measured on the independent generator's backlash (README, "Outside effects"):
+  7 of 8 motor-side recordings read as clearance growth, 0 of 9 screw-side ones.
+
 ``scale`` gives a typical magnitude per parameter (the solver's scaling);
 ``starts`` lists starting points (several for the non-linear Stribeck speed).
 """
@@ -81,6 +92,9 @@ class Effect:
     size_meaning: str = ""
     #: per parameter: (name of the nominal quantity it changes, its nominal value) or None
     nominal: tuple[tuple[str, float] | None, ...] = ()
+    #: a physical cause outside the catalog that the sensors cannot tell from this effect (module
+    #: docstring, "Look-alikes"); "" when none is known
+    look_alike: str = ""
 
     @property
     def k(self) -> int:
@@ -149,7 +163,10 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
                nominal=(None,)),
         Effect("clearance_growth", "axial clearance larger than nominal (wear)", ("dx",), ("m",),
                lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), channels=("force",),
-               size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", x_ag),)),
+               size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", x_ag),),
+               look_alike="a play of the same size between the motor and the screw, if the angle is "
+                          "measured on the motor side (the force-angle law sees only the lost motion): "
+                          "check the gear and the screw coupling before the pads"),
         Effect("force_sensor_bias", "gain error of the axial-force measurement (the offset is the tare)",
                ("g",), ("-",), lambda p: Augment(force_gain=p[0]), (0.01,), ((0.0,),), (-0.5,), (1.0,),
                channels=("torque", "force"), size_meaning="gain error, fraction of the reading",

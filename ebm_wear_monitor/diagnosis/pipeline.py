@@ -118,8 +118,10 @@ def summary(ranking: Ranking) -> str:
         parts = [describe(f) for f in sorted(ranking.selected, key=lambda f: -f.score)]
         joint = ranking.joint
         assert joint is not None  # an "effect" verdict rests on the selected effects fitted together
+        alike = "".join(f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as "
+                        f"{f.effect.look_alike}." for f in ranking.selected if f.effect.look_alike)
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
-                f"{100.0 * joint.shrink:.0f} % of the {gap}.")
+                f"{100.0 * joint.shrink:.0f} % of the {gap}.{alike}")
     o = ranking.open_set
     if o is not None and o.decided:
         torque = (f"a torque that depends on where the screw is ({1e3 * o.periodic.rms:.0f} ± "

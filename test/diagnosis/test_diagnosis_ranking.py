@@ -16,7 +16,7 @@ from diag_synth import synth
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.heldout import improvement_p
-from ebm_wear_monitor.diagnosis.pipeline import residual_model
+from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import DRIFT_ALPHA, Scorer, fit, rank, split_by_cycle, trend_p
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.errors import InputError
@@ -67,6 +67,8 @@ def test_strong_effect_is_named(name):
     r = rank(sc, catalog(model))
     assert r.verdict == "effect" and r.effect.effect.name == name
     assert r.joint.gap_after < 0.5 * r.gap_before
+    # only a clearance growth has a known look-alike outside the catalog, and the summary says it
+    assert ("between the motor and the screw" in summary(r)) == (name == "clearance_growth")
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
