@@ -50,6 +50,7 @@ from ebm_wear_monitor.schema.diagnose import (
     Estimate,
     FrictionRefit,
     PositionTorque,
+    RestTorque,
 )
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, actuator_model
 
@@ -133,6 +134,15 @@ def summary(ranking: Ranking) -> str:
         return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
                 f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
                 "the catalog is likely.")
+    r = ranking.rest
+    if r is not None and ranking.rest_decided:
+        model = ("with " + " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
+                 if ranking.joint is not None else "within its tolerance")
+        return (f"In {r.violated} of {r.cycles} held-out applications the recorded screw stays at rest while "
+                f"the motor drives {r.excess:.2f} N m beyond the breakaway torque of the twin {model} "
+                "(004 eq. 9): the motor turns where the angle sees no motion, e.g. a play between motor and "
+                "screw with the angle measured on the screw side, or a slipping coupling. No known effect "
+                "does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
@@ -202,6 +212,7 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
         noise={s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         residual_method=RESIDUAL_METHOD,
         position_torque=position_torque(ranking),
+        rest_torque=rest_report(ranking),
     ), sc, ranking)
 
 
@@ -212,3 +223,11 @@ def position_torque(ranking: Ranking) -> PositionTorque | None:
         return None
     p = o.periodic
     return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.decided)
+
+
+def rest_report(ranking: Ranking) -> RestTorque | None:
+    """The breakaway-band test of the verdict's model at rest (:mod:`.stick`), as reported."""
+    r = ranking.rest
+    if r is None:
+        return None
+    return RestTorque(r.cycles, r.violated, r.excess, r.band, r.floor, r.p_value, ranking.rest_decided)

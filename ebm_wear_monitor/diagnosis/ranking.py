@@ -92,7 +92,11 @@ data within its tolerance.  Then structure the catalog cannot represent is looke
 (:mod:`.openset`): a significant torque as a function of the screw angle that removes more of the
 explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
 (the effects closed less than half of what is explainable); a significant and material one turns
-``none`` into ``unexplained`` (:func:`open_set_verdict`).  Material means in physical units
+``none`` into ``unexplained`` (:func:`open_set_verdict`).  Last, the band test at rest
+(:mod:`.stick`): when the verdict's model (the selected effects, or the twin within its tolerance)
+cannot hold the drive the recording shows at rest within 004 eq. 9's breakaway band, in
+significantly many held-out applications and by a material torque, the motor turned where the angle
+saw no motion, and ``effect`` or ``none`` becomes ``unexplained``.  Material means in physical units
 (:meth:`Scorer.unexplained_share`): the RMS model error beyond the noise exceeds, as a share of
 what the channel predicts, the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
 
@@ -128,6 +132,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     clamp_spring,
     kinetic_friction,
 )
+from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.schema.diagnose import Drift, NearTie, Parameter, RankingEntry, Size
@@ -812,6 +817,9 @@ class Ranking:
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
     open_set: OpenSet | None = None  # the screw-position test of the verdict's model (None: not tested)
+    #: the breakaway-band test of the verdict's model at rest (:mod:`.stick`; None: not tested)
+    rest: RestTorque | None = None
+    rest_decided: bool = False  # the rest test turned the verdict into ``unexplained``
 
     @property
     def top(self) -> EffectFit:
@@ -1008,9 +1016,15 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         opened = open_set_verdict(verdict, periodic, share_closed)
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
+    rest = rest_torque(sc.model, (sc.base if explaining is None else explaining.model).aug, sc.sigma_torque,
+                       sc.split.heldout) if verdict != "unexplained" else None
+    rest_decided = rest is not None and rest.counts(ALPHA)
+    if rest_decided:
+        verdict = "unexplained"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
-    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set)
+    return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set,
+                   rest, rest_decided)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

@@ -451,12 +451,22 @@ class ResidualModel:
         return self.blocks.mean(self.drive_torque_nominal)
 
     # ----------------------------------------------------------------- block residuals
-    def _net_integral(self, aug: Augment) -> np.ndarray:
-        """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample [N m s]."""
+    def _net_integral(self, aug: Augment, *, friction: bool = True) -> np.ndarray:
+        """Cumulative trapezoid integral of the net torque K_T I - T_L - T_f from the first sample [N m s]
+        (without ``friction``: of K_T I - T_L)."""
         drive = self.drive(aug)
-        T_f, T_L = self.friction(aug, drive)
-        net = drive - T_L - T_f
+        if friction:
+            T_f, T_L = self.friction(aug, drive)
+            net = drive - T_L - T_f
+        else:
+            net = drive - self.nominal.load_torque(self.load_force(aug))
         return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * self._h)))
+
+    def held_torque(self, aug: Augment) -> np.ndarray:
+        """Per block, the torque the friction must take for the recorded motion and force [N m]: R_T with
+        no friction, K_T I - T_L - J_me dw/dt averaged over the block (at rest 004 eq. 9 bounds it by the
+        breakaway torque, :mod:`.stick`)."""
+        return self.torque_residual(aug, self._net_integral(aug, friction=False))
 
     def torque_residual(self, aug: Augment, C: np.ndarray | None = None) -> np.ndarray:
         """R_T per block [N m] (module docstring); ``C`` the net-torque integral when already known

@@ -176,6 +176,23 @@ class PositionTorque(Record):
 
 
 @dataclass(frozen=True)
+class RestTorque(Record):
+    """Drive held at rest beyond 004 eq. 9's breakaway band by the verdict's model (diagnosis/stick.py)."""
+
+    cycles: int = quantity("", "held-out applications with a block at rest", json="cycles")
+    violated: int = quantity("", "of them, those whose largest excess over the band exceeds 2 block-noise "
+                             "standard deviations", json="violated")
+    excess_Nm: float = quantity("N m", "median excess over the band of the violating applications (0 without "
+                                "any)", json="excess_Nm")
+    band_Nm: float = quantity("N m", "median breakaway torque of the verdict's model there (0 without any); "
+                              "material: the excess above it and above floor_Nm", json="band_Nm")
+    floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque", json="floor_Nm")
+    p_value: float = quantity("-", "binomial tail of the violating applications at 0.1 per application",
+                              json="p_value")
+    decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
+
+
+@dataclass(frozen=True)
 class NearTie(Record):
     """Two effects the held-out data do not tell apart, and the experiment that would."""
 
@@ -242,6 +259,9 @@ class DiagnosisResult(Record):
     position_torque: PositionTorque | None = quantity(
         "", "torque depending on the screw position left by the verdict's model (null: not tested)",
         json="position_torque", default=None)
+    rest_torque: RestTorque | None = quantity(
+        "", "drive held at rest beyond the breakaway band of the verdict's model (null: not tested)",
+        json="rest_torque", default=None)
 
 
 @dataclass(frozen=True)

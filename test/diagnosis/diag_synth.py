@@ -31,13 +31,20 @@ def _min_jerk(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, rate: float = 500.0,
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
-          drive_gain: float = 0.0, dG_drift: float = 0.0) -> Resampled:
+          drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
+          play_share: float = 0.6) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
     torque constant (more current for the same torque: an effect outside the catalog); ``dG_drift``
     [N m/N] a load-friction coefficient growing linearly from 0 in the first cycle to ``dG_drift`` in
     the last (friction drifting within the recording: outside the catalog too).
+
+    ``play`` [m of nut travel]: a play between motor and screw with the angle measured on the screw
+    (outside the catalog). The motor travels ``play`` further; the screw follows the forward flank when
+    the motor drives it or the clamp pushes it back, the backward flank when the motor pulls it back
+    out of contact, and stays put in between, where the motor carries its inertia and only the share
+    ``1 - play_share`` of the no-load friction (Coulomb and viscous).
     """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
@@ -48,7 +55,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     for c in range(cycles):
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)
-        x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness
+        x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness + play
         seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_end),
                ("release", 0.8 * T_app, x_end, 0.0), ("idle", 0.1, 0.0, 0.0)]
         for _kind, dur, xa, xb in seg:
@@ -61,8 +68,12 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
             t0 += dur
     t, x, xd, xdd, age = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
-    w_m = nom.gear_ratio * k * xd
-    d = np.maximum(x - nom.clamp.clearance - aug.clearance, 0.0)  # pad compression [m]
+    x_c = nom.clamp.clearance + aug.clearance  # nut travel at contact [m]
+    x_motor, coupled = x, np.ones(x.size, bool)
+    if play > 0.0:
+        x, coupled = _through_play(x_motor, play, x_c)
+    w_m = nom.gear_ratio * k * xd  # the motor's speed [rad/s]
+    d = np.maximum(x - x_c, 0.0)  # pad compression [m]
     F_true = nom.clamp.stiffness * d + aug.stiffness_quad * d**2  # 004 eq. 5 (+ k_2 d^2)
     T_L = nom.lead * F_true / (2.0 * math.pi * nom.gear_ratio)  # 004 eq. 1
     speed = np.abs(w_m)
@@ -72,10 +83,31 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
                           + (law.viscous + aug.dB) * speed
                           + T_L * (aug.eff_base + aug.eff_speed * speed)
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
+    T_f = np.where(coupled, T_f, (1.0 - play_share) * np.sign(w_m) * (law.coulomb + law.viscous * speed))
     T_f = np.where(speed > 1e-3, T_f, 0.0)
     current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f)  # 004 eq. 1, 7
                / (nom.torque_constant * (1.0 - drive_gain)))
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
-    sig = {"angle": k * x, "velocity": k * xd, "axial_force": force_meas, "current": current}
+    velocity = k * (xd if play == 0.0 else np.gradient(x, t))
+    sig = {"angle": k * x, "velocity": velocity, "axial_force": force_meas, "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
     return Resampled(t, **sig)
+
+
+def _through_play(x_motor: np.ndarray, play: float, x_c: float) -> tuple[np.ndarray, np.ndarray]:
+    """(screw travel [m], whether a flank is engaged) behind a play ``play`` [m] (:func:`synth`)."""
+    x = np.empty_like(x_motor)
+    coupled = np.ones(x.size, bool)
+    s = 0.0
+    for i, xm in enumerate(x_motor):
+        if xm - play >= s:  # the forward flank drives the screw
+            s_new = xm - play
+        elif s > x_c:  # in contact the clamp pushes the screw back onto the forward flank, down to contact
+            s_new = max(xm - play, x_c)
+        elif xm < s:  # the backward flank pulls it back
+            s_new = xm
+        else:
+            s_new = s
+        coupled[i] = s_new != s or i == 0
+        x[i] = s = s_new
+    return x, coupled

@@ -41,12 +41,12 @@ def test_quick_selftest_foreign_world(result):
     assert f.top1_accuracy >= 0.85
     assert f.median_shrink >= 0.7
     assert f.catalog_unexplained_rate <= 0.1
-    # 2 of the 4 outside effects: the torque-constant loss, and the rising friction, whose load friction
+    # 3 of the 4 outside effects: the torque-constant loss; the rising friction, whose load friction
     # trends with time beyond the operating mix (the drift test of ranking.drift_test; read as load
-    # friction before it). The backlash reads none since the measured block noise: its tighter torque
-    # weighting lets the twin's tolerance budget absorb it (its model error falls from 5.0 % to 1.2 % of
-    # the RMS motor torque, under the 2 % materiality floor); the ripple reads none too
-    assert f.unexplained_accuracy >= 0.5
+    # friction before it); and the backlash (angle on the screw side), whose motor drives 2.2 N m beyond
+    # the breakaway torque while the recorded screw stays at rest (diagnosis/stick.py; read none before,
+    # the twin's tolerance budget absorbing what the moving blocks show). The ripple reads none
+    assert f.unexplained_accuracy >= 0.75
     # 1 of the 3 pairs exactly named (load friction + viscous reads load friction alone; stiffness +
     # Stribeck adds clearance growth as a third effect): the selection's guard on the other world
     assert f.pair_accuracy is not None and f.pair_accuracy >= 1 / 3
