@@ -140,9 +140,10 @@ def summary(ranking: Ranking) -> str:
                  if ranking.joint is not None else "within its tolerance")
         return (f"In {r.violated} of {r.cycles} held-out applications the recorded screw stays at rest while "
                 f"the motor drives {r.excess:.2f} N m beyond the breakaway torque of the twin {model} "
-                "(004 eq. 9): the motor turns where the angle sees no motion, e.g. a play between motor and "
-                "screw with the angle measured on the screw side, or a slipping coupling. No known effect "
-                "does that: an effect outside the catalog is likely.")
+                f"(004 eq. 9; {r.band:.2f} N m, plus 2 % for K_T): the motor turns where the angle sees no "
+                "motion (a play between motor and screw with the angle measured on the screw side, a "
+                "slipping coupling), or the screw sticks far harder than any known friction. No known "
+                "effect does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "

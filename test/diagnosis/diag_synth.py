@@ -32,7 +32,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
-          play_share: float = 0.6) -> Resampled:
+          play_share: float = 0.6, rest_pulse: float = 0.0) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -45,6 +45,10 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     the motor drives it or the clamp pushes it back, the backward flank when the motor pulls it back
     out of contact, and stays put in between, where the motor carries its inertia and only the share
     ``1 - play_share`` of the no-load friction (Coulomb and viscous).
+
+    ``rest_pulse`` [N m]: in every idle a half sine of motor torque of this peak that the recorded screw
+    does not feel (a motor turning inside a play, the angle on the screw): the drive at rest alone, the
+    moving blocks untouched (outside the catalog).
     """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
@@ -58,15 +62,16 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
         x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness + play
         seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_end),
                ("release", 0.8 * T_app, x_end, 0.0), ("idle", 0.1, 0.0, 0.0)]
-        for _kind, dur, xa, xb in seg:
+        for kind, dur, xa, xb in seg:
             t = np.arange(0.0, dur, 1.0 / rate)
             p, v, a = _min_jerk(t / dur)
             x = xa + (xb - xa) * p
             xd = (xb - xa) * v / dur
             xdd = (xb - xa) * a / dur**2
-            parts.append((t0 + t, x, xd, xdd, np.full(t.size, c / max(cycles - 1, 1))))
+            pulse = rest_pulse * np.sin(np.pi * t / dur) * (kind == "idle")
+            parts.append((t0 + t, x, xd, xdd, np.full(t.size, c / max(cycles - 1, 1)), pulse))
             t0 += dur
-    t, x, xd, xdd, age = (np.concatenate(c) for c in zip(*parts, strict=True))
+    t, x, xd, xdd, age, pulse = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
     x_c = nom.clamp.clearance + aug.clearance  # nut travel at contact [m]
     x_motor, coupled = x, np.ones(x.size, bool)
@@ -85,7 +90,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
     T_f = np.where(coupled, T_f, (1.0 - play_share) * np.sign(w_m) * (law.coulomb + law.viscous * speed))
     T_f = np.where(speed > 1e-3, T_f, 0.0)
-    current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f)  # 004 eq. 1, 7
+    current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f + pulse)  # 004 eq. 1, 7
                / (nom.torque_constant * (1.0 - drive_gain)))
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
     velocity = k * (xd if play == 0.0 else np.gradient(x, t))
