@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
 from ebm_wear_monitor.diagnosis.conventions import estimate_conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
@@ -40,7 +41,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import Resampled
-from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, ResidualModel, nuisances_of
+from ebm_wear_monitor.diagnosis.residuals import CHANNELS, NUISANCE_UNITS, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.params import UnitParams
@@ -112,6 +113,18 @@ def describe(f: EffectFit) -> str:
     return f"{words}: {100.0 * f.size:.1f} % ± {100.0 * f.size_std:.1f} % ({e.size_meaning})"
 
 
+def _material_closed(ranking: Ranking, joint: EffectFit) -> str:
+    """What the verdict's rule judged (:func:`.ranking.rank`): the share of the material model error of the
+    twin within its tolerance the effects close, per channel (the gap also counts the noise-level rows)."""
+    w = ranking.unexplained_share
+    closed = [f"{100.0 * (1.0 - joint.share[ch] / w[ch]):.0f} % of the {ch} model error"
+              for ch in CHANNELS if w[ch] > tolerance.MATERIAL_SHARE[ch]]
+    if not closed:
+        return ("; the twin within its tolerance leaves no material model error, the effect is named for its "
+                "significant size above its floor")
+    return f" and {' and '.join(closed)} the twin within its tolerance leaves"
+
+
 def summary(ranking: Ranking) -> str:
     """The verdict in plain words."""
     gap = f"held-out gap {ranking.gap_before:.2f} x noise"
@@ -122,7 +135,7 @@ def summary(ranking: Ranking) -> str:
         alike = "".join(f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as "
                         f"{f.effect.look_alike}." for f in ranking.selected if f.effect.look_alike)
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
-                f"{100.0 * joint.shrink:.0f} % of the {gap}.{alike}")
+                f"{100.0 * joint.shrink:.0f} % of the {gap}{_material_closed(ranking, joint)}.{alike}")
     o = ranking.open_set
     if o is not None and o.decided:
         torque = (f"a torque that depends on where the screw is ({1e3 * o.periodic.rms:.0f} ± "

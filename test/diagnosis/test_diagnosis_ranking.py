@@ -4,6 +4,7 @@ Data: closed-form brake cycles (diag_synth) obeying 004 eq. 1-9 with a known aug
 so each catalog effect must find its own parameters (an invariant, not a copied number).
 """
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -68,7 +69,16 @@ def test_strong_effect_is_named(name):
     assert r.verdict == "effect" and r.effect.effect.name == name
     assert r.joint.gap_after < 0.5 * r.gap_before
     # only a clearance growth has a known look-alike outside the catalog, and the summary says it
-    assert ("between the motor and the screw" in summary(r)) == (name == "clearance_growth")
+    text = summary(r)
+    assert ("between the motor and the screw" in text) == (name == "clearance_growth")
+    # the summary states what the verdict judged: the share of the material model error closed, >= 50 %
+    assert "model error the twin within its tolerance leaves" in text, text
+    for ch, w in r.unexplained_share.items():
+        if w > tolerance.MATERIAL_SHARE[ch]:
+            closed = 1.0 - r.joint.share[ch] / w
+            assert f"{100.0 * closed:.0f} % of the {ch} model error" in text and closed >= 0.5
+    immaterial = dataclasses.replace(r, unexplained_share=dict.fromkeys(r.unexplained_share, 0.0))
+    assert "leaves no material model error" in summary(immaterial)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
