@@ -1017,7 +1017,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
     rest = rest_torque(sc.model, (sc.base if explaining is None else explaining.model).aug, sc.sigma_torque,
-                       sc.split.heldout) if verdict != "unexplained" else None
+                       sc.split.calibration, sc.split.heldout) if verdict != "unexplained" else None
     rest_decided = rest is not None and rest.counts(ALPHA)
     if rest_decided:
         verdict = "unexplained"
