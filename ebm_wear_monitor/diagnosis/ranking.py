@@ -685,15 +685,19 @@ class EffectFit:
              for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)})
 
 
-def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
-    """Standard deviation of the size by the delta method (independent parameters)."""
-    var = 0.0
+def size_gradient(effect: Effect, theta: np.ndarray) -> np.ndarray:
+    """d size / d theta by central differences (the size is a plain function of the parameters)."""
+    grad = np.zeros(effect.k)
     for i in range(effect.k):
         h = np.zeros(effect.k)
         h[i] = max(1e-6 * abs(theta[i]), 1e-9 * effect.scale[i] + 1e-300)
-        d = (effect.size(theta + h) - effect.size(theta - h)) / (2.0 * h[i])
-        var += (d * stderr[i]) ** 2
-    return float(np.sqrt(var))
+        grad[i] = (effect.size(theta + h) - effect.size(theta - h)) / (2.0 * h[i])
+    return grad
+
+
+def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
+    """Standard deviation of the size by the delta method (independent parameters)."""
+    return float(np.sqrt(np.sum((size_gradient(effect, theta) * stderr) ** 2)))
 
 
 def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float,
@@ -819,7 +823,11 @@ class Ranking:
     open_set: OpenSet | None = None  # the screw-position test of the verdict's model (None: not tested)
     #: the breakaway-band test of the verdict's model at rest (:mod:`.stick`; None: not tested)
     rest: RestTorque | None = None
-    rest_decided: bool = False  # the rest test turned the verdict into ``unexplained``
+
+    @property
+    def rest_decided(self) -> bool:
+        """The rest test turned the verdict into ``unexplained`` (it runs only on another verdict)."""
+        return self.rest is not None and self.rest.counts(ALPHA)
 
     @property
     def top(self) -> EffectFit:
@@ -922,10 +930,7 @@ def _time_trend_p(sc: Scorer, f: EffectFit, cycles: np.ndarray) -> float:
     mask = np.ones(blocks.size, bool)
     g = fit(sc, e, f.model, mask=mask, only_effect=True)
     J, z0 = g.jac, g.z
-    hs = [1e-6 * max(abs(float(g.theta[i])), float(e.scale[i])) for i in range(e.k)]
-    unit = np.eye(e.k)
-    grad = np.array([(e.size(g.theta + h * unit[i]) - e.size(g.theta - h * unit[i])) / (2.0 * h)
-                     for i, h in enumerate(hs)])
+    grad = size_gradient(e, g.theta)
     pos = np.searchsorted(cycles, sc.row_cycles(mask, channels))
     A = np.zeros((cycles.size, e.k, e.k))
     b = np.zeros((cycles.size, e.k))
@@ -1009,22 +1014,21 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         verdict = "none"
     open_set = None
     explaining = joint if verdict == "effect" else None
-    periodic = screw_periodic(sc, sc.base if explaining is None else explaining.model) \
-        if verdict != "unexplained" else None
+    verdict_model = sc.base if explaining is None else explaining.model
+    periodic = screw_periodic(sc, verdict_model) if verdict != "unexplained" else None
     if periodic is not None:
         share_closed = effects_share(explaining, periodic) if explaining is not None else None
         opened = open_set_verdict(verdict, periodic, share_closed)
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
-    rest = rest_torque(sc.model, (sc.base if explaining is None else explaining.model).aug, sc.sigma_torque,
-                       sc.split.calibration, sc.split.heldout) if verdict != "unexplained" else None
-    rest_decided = rest is not None and rest.counts(ALPHA)
-    if rest_decided:
+    rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
+                       sc.split.heldout) if verdict != "unexplained" else None
+    if rest is not None and rest.counts(ALPHA):
         verdict = "unexplained"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
     return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set,
-                   rest, rest_decided)
+                   rest)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

@@ -143,7 +143,9 @@ def rest_torque(model: ResidualModel, aug: Augment, sigma: np.ndarray, calibrati
     held, excess, band = band_excess(model, aug)
     noise = rest_noise(held, b.run, calibration & ~b.moving)
     z = excess / (noise if noise > 0.0 else sigma)
-    worst = np.array([max(np.flatnonzero(rest & (b.cycle == c)), key=lambda i: z[i]) for c in cycles])
+    at_rest = np.flatnonzero(rest)
+    by_cycle = at_rest[np.lexsort((z[at_rest], b.cycle[at_rest]))]  # by cycle, then by z
+    worst = by_cycle[np.r_[b.cycle[by_cycle][1:] != b.cycle[by_cycle][:-1], True]]  # last of each cycle
     hit = worst[z[worst] > Z_STICK]  # the largest-z block of each violating application
     floor = tolerance.MATERIAL_SHARE["torque"] * float(np.sqrt(np.mean(model.drive_block()[b.moving] ** 2)))
     over, breakaway = (float(np.median(y[hit])) if hit.size else 0.0 for y in (excess, band))

@@ -107,8 +107,8 @@ def test_the_noise_at_rest_is_the_scatter_of_the_held_torque(seed):
 
 def test_the_summary_says_the_screw_stays_at_rest():
     _, r = ranked(seed=5)
-    decided = dataclasses.replace(r, verdict="unexplained", rest=RestTorque(10, 9, 1.23, 0.4, 0.04, 1e-8),
-                                  rest_decided=True)
+    decided = dataclasses.replace(r, verdict="unexplained", rest=RestTorque(10, 9, 1.23, 0.4, 0.04, 1e-8))
+    assert decided.rest_decided  # 1.23 N m beyond a 0.4 N m band, p = 1e-8
     text = summary(decided)
     assert "In 9 of 10 held-out applications the recorded screw stays at rest" in text
     assert "1.23 N m beyond the breakaway torque of the twin within its tolerance" in text
