@@ -108,7 +108,7 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     if calibration.sum() < 4 * ncol or heldout.sum() < 4 * ncol:
         return None
     moving = calibration | heldout
-    floor = tolerance.MATERIAL_SHARE["torque"] * float(np.sqrt(np.mean(drive[moving] ** 2)))
+    floor = tolerance.torque_floor(drive[moving])
     S = shapes / sigma[:, None]
     zc = z[calibration]
     gamma0 = _lstsq(S[calibration], zc)

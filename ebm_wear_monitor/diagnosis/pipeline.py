@@ -50,6 +50,7 @@ from ebm_wear_monitor.schema.diagnose import (
     DiagnosisResult,
     Estimate,
     FrictionRefit,
+    LostMotionTest,
     PositionTorque,
     RestTorque,
 )
@@ -157,6 +158,16 @@ def summary(ranking: Ranking) -> str:
                 "motion (a play between motor and screw with the angle measured on the screw side, a "
                 "slipping coupling), or the screw sticks far harder than any known friction. No known "
                 "effect does that: an effect outside the catalog is likely.")
+    m = ranking.play
+    if m is not None and ranking.play_decided:
+        named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
+        return (f"The twin fits the recording with {named}, an extra clearance of {1e6 * m.travel:.0f} µm, "
+                f"but in {m.cycles} held-out releases the motor crosses that extra travel with "
+                f"{m.deficit:.2f} ± {m.deficit_std:.2f} N m less friction than the travel after it: the motor "
+                f"turns there without the screw. That is a play of about {1e6 * m.travel:.0f} µm of nut travel between "
+                "the motor and the screw (gear, coupling), not a wider brake clearance, which the screw "
+                "crosses with its friction; or a friction that changes with the screw's position there. No "
+                "known effect does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
@@ -227,6 +238,7 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
         residual_method=RESIDUAL_METHOD,
         position_torque=position_torque(ranking),
         rest_torque=rest_report(ranking),
+        lost_motion=play_report(ranking),
     ), sc, ranking)
 
 
@@ -245,3 +257,12 @@ def rest_report(ranking: Ranking) -> RestTorque | None:
     if r is None:
         return None
     return RestTorque(r.cycles, r.violated, r.excess, r.band, r.floor, r.p_value, ranking.rest_decided)
+
+
+def play_report(ranking: Ranking) -> LostMotionTest | None:
+    """The lost-motion test of the verdict's model (:mod:`.play`), as reported."""
+    m = ranking.play
+    if m is None:
+        return None
+    return LostMotionTest(m.cycles, m.travel, m.deficit, m.deficit_std, m.floor, m.p_value,
+                          ranking.play_decided)

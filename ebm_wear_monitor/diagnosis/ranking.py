@@ -96,9 +96,13 @@ explaining model's held-out error than its effects removed turns ``effect`` into
 (:mod:`.stick`): when the verdict's model (the selected effects, or the twin within its tolerance)
 cannot hold the drive the recording shows at rest within 004 eq. 9's breakaway band, in
 significantly many held-out applications and by a material torque, the motor turned where the angle
-saw no motion, and ``effect`` or ``none`` becomes ``unexplained``.  Material means in physical units
-(:meth:`Scorer.unexplained_share`): the RMS model error beyond the noise exceeds, as a share of
-what the channel predicts, the budget's bound on that channel (:data:`.tolerance.MATERIAL_SHARE`).
+saw no motion, and ``effect`` or ``none`` becomes ``unexplained``.  And where the verdict's effects
+include a clearance growth, the lost-motion test (:mod:`.play`): when the release crosses that extra
+clearance with significantly and materially less friction than the travel after it, the lost motion
+is a play between motor and screw, not a clearance, and ``effect`` becomes ``unexplained``.
+Material means in physical units (:meth:`Scorer.unexplained_share`): the RMS model error beyond the
+noise exceeds, as a share of what the channel predicts, the budget's bound on that channel
+(:data:`.tolerance.MATERIAL_SHARE`).
 
 **Parsimony.**  When an effect with fewer parameters is tied with the best-scoring
 one it is ranked first: ``efficiency_variation`` nests ``load_friction`` and must
@@ -123,6 +127,7 @@ from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.noise import median_scale, series_noise, signal_noise
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
+from ebm_wear_monitor.diagnosis.play import LostMotion, lost_motion
 from ebm_wear_monitor.diagnosis.residuals import (
     CHANNELS,
     NOMINAL,
@@ -823,11 +828,18 @@ class Ranking:
     open_set: OpenSet | None = None  # the screw-position test of the verdict's model (None: not tested)
     #: the breakaway-band test of the verdict's model at rest (:mod:`.stick`; None: not tested)
     rest: RestTorque | None = None
+    #: the friction over the extra clearance of the verdict's model (:mod:`.play`; None: not tested)
+    play: LostMotion | None = None
 
     @property
     def rest_decided(self) -> bool:
         """The rest test turned the verdict into ``unexplained`` (it runs only on another verdict)."""
         return self.rest is not None and self.rest.counts(ALPHA)
+
+    @property
+    def play_decided(self) -> bool:
+        """The lost-motion test turned the verdict into ``unexplained`` (it runs only on ``effect``)."""
+        return self.play is not None and self.play.counts(ALPHA)
 
     @property
     def top(self) -> EffectFit:
@@ -1025,10 +1037,14 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
                        sc.split.heldout) if verdict != "unexplained" else None
     if rest is not None and rest.counts(ALPHA):
         verdict = "unexplained"
+    play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout) \
+        if verdict == "effect" and any(f.effect.name == "clearance_growth" for f in selected) else None
+    if play is not None and play.counts(ALPHA):
+        verdict = "unexplained"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
     return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set,
-                   rest)
+                   rest, play)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

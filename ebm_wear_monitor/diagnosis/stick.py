@@ -147,7 +147,7 @@ def rest_torque(model: ResidualModel, aug: Augment, sigma: np.ndarray, calibrati
     by_cycle = at_rest[np.lexsort((z[at_rest], b.cycle[at_rest]))]  # by cycle, then by z
     worst = by_cycle[np.r_[b.cycle[by_cycle][1:] != b.cycle[by_cycle][:-1], True]]  # last of each cycle
     hit = worst[z[worst] > Z_STICK]  # the largest-z block of each violating application
-    floor = tolerance.MATERIAL_SHARE["torque"] * float(np.sqrt(np.mean(model.drive_block()[b.moving] ** 2)))
+    floor = tolerance.torque_floor(model.drive_block()[b.moving])
     over, breakaway = (float(np.median(y[hit])) if hit.size else 0.0 for y in (excess, band))
     return RestTorque(int(cycles.size), int(hit.size), over, breakaway, floor,
                       float(stats.binom.sf(hit.size - 1, int(cycles.size), P_CYCLE)))

@@ -61,6 +61,8 @@ import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
@@ -102,6 +104,12 @@ OWN = {"viscous_friction": ("viscous",), "load_friction": ("direction_asymmetry"
 #: a channel's model error is material above this share of what it predicts: the budget's bound on the
 #: channel's scale (torque: K_T x current gain, 2 %; force: the load-cell gain, 1 %)
 MATERIAL_SHARE = {"torque": 0.02, "force": 0.01}
+
+
+def torque_floor(drive: np.ndarray) -> float:
+    """Materiality bound of a torque the model misses [N m]: ``MATERIAL_SHARE['torque']`` of the RMS of
+    ``drive``, the block-mean motor torque over the moving blocks [N m] (an RMS against an RMS)."""
+    return MATERIAL_SHARE["torque"] * float(np.sqrt(np.mean(drive**2)))
 
 #: effect -> detectability floor of its size (module docstring; units as :mod:`.catalog`'s sizes)
 FLOORS = {"viscous_friction": 0.10, "load_friction": 0.03, "efficiency_variation": 0.02,

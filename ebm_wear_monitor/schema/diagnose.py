@@ -193,6 +193,23 @@ class RestTorque(Record):
 
 
 @dataclass(frozen=True)
+class LostMotionTest(Record):
+    """Friction over the extra clearance of the verdict's model in the release (diagnosis/play.py)."""
+
+    cycles: int = quantity("", "held-out applications whose release samples both travel windows",
+                           json="cycles")
+    travel_m: float = quantity("m", "the extra clearance of the verdict's model: the window's length in nut "
+                               "travel", json="travel_m")
+    deficit_Nm: float = quantity("N m", "mean friction the recording lacks over the extra clearance compared "
+                                 "with the same travel after it (a play: the screw's friction)",
+                                 json="deficit_Nm")
+    deficit_std_Nm: float = quantity("N m", "standard error of that mean", json="deficit_std_Nm")
+    floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque", json="floor_Nm")
+    p_value: float = quantity("-", "one-sided t test of the mean deficit against zero", json="p_value")
+    decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
+
+
+@dataclass(frozen=True)
 class NearTie(Record):
     """Two effects the held-out data do not tell apart, and the experiment that would."""
 
@@ -262,6 +279,9 @@ class DiagnosisResult(Record):
     rest_torque: RestTorque | None = quantity(
         "", "drive held at rest beyond the breakaway band of the verdict's model (null: not tested)",
         json="rest_torque", default=None)
+    lost_motion: LostMotionTest | None = quantity(
+        "", "friction over the extra clearance of the verdict's model: a play or a clearance (null: not "
+        "tested, the verdict's effects hold no clearance growth)", json="lost_motion", default=None)
 
 
 @dataclass(frozen=True)
