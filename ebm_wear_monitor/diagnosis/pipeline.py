@@ -161,13 +161,14 @@ def summary(ranking: Ranking) -> str:
     m = ranking.play
     if m is not None and ranking.play_decided:
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-        return (f"The twin fits the recording with {named}, an extra clearance of {1e6 * m.travel:.0f} µm, "
-                f"but in {m.cycles} held-out releases the motor crosses that extra travel with "
-                f"{m.deficit:.2f} ± {m.deficit_std:.2f} N m less friction than the travel after it: the motor "
-                f"turns there without the screw. That is a play of about {1e6 * m.travel:.0f} µm of nut travel between "
-                "the motor and the screw (gear, coupling), not a wider brake clearance, which the screw "
-                "crosses with its friction; or a friction that changes with the screw's position there. No "
-                "known effect does that: an effect outside the catalog is likely.")
+        size = f"{1e6 * m.travel:.0f} µm"
+        return (f"The twin fits the recording with {named}, an extra clearance of {size}, but in "
+                f"{m.cycles} held-out releases the motor crosses that extra travel with {m.deficit:.2f} ± "
+                f"{m.deficit_std:.2f} N m less friction than the travel after it: the motor turns there "
+                f"without the screw. That is a play of about {size} of nut travel between the motor and "
+                "the screw (gear, coupling), not a wider brake clearance, which the screw crosses with its "
+                "friction; or a friction that changes with the screw's position there. No known effect "
+                "does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
         return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
