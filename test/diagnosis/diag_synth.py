@@ -32,7 +32,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
-          play_share: float = 0.6, rest_pulse: float = 0.0) -> Resampled:
+          play_share: float = 0.6, angle_side: str = "screw", rest_pulse: float = 0.0) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -44,7 +44,8 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     (outside the catalog). The motor travels ``play`` further; the screw follows the forward flank when
     the motor drives it or the clamp pushes it back, the backward flank when the motor pulls it back
     out of contact, and stays put in between, where the motor carries its inertia and only the share
-    ``1 - play_share`` of the no-load friction (Coulomb and viscous).
+    ``1 - play_share`` of the no-load friction (Coulomb and viscous). ``angle_side="motor"`` records the
+    angle and the velocity on the motor side of the play instead (the travel the motor makes).
 
     ``rest_pulse`` [N m]: in every idle a half sine of motor torque of this peak that the recorded screw
     does not feel (a motor turning inside a play, the angle on the screw): the drive at rest alone, the
@@ -93,8 +94,10 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f + pulse)  # 004 eq. 1, 7
                / (nom.torque_constant * (1.0 - drive_gain)))
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
-    velocity = k * (xd if play == 0.0 else np.gradient(x, t))
-    sig = {"angle": k * x, "velocity": velocity, "axial_force": force_meas, "current": current}
+    on_motor = play == 0.0 or angle_side == "motor"
+    velocity = k * (xd if on_motor else np.gradient(x, t))
+    sig = {"angle": k * (x_motor if on_motor else x), "velocity": velocity, "axial_force": force_meas,
+           "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
     return Resampled(t, **sig)
 
