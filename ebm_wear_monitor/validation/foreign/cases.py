@@ -328,10 +328,11 @@ def _multirate_cases() -> list[Case]:
 
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c")}
-#: the outside-catalog draw: seed of its cases, cases per effect outside the catalog
-OUTSIDE_DRAW = (11000, 10)
-#: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draw
-DIAGNOSIS_SETS = ("quick", *DRAWS, "outside")
+#: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
+OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000}
+OUTSIDE_PER_KIND = 10
+#: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
+DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
 SETS = (*DIAGNOSIS_SETS, "life", "multirate")
 
 
@@ -348,7 +349,9 @@ def case_set(name: str) -> list[Case]:
     applications) of healthy units whose true clearance follows a schedule (``LIFE``).
     ``outside``: 40 recordings of the effects outside the catalog (10 per effect, forms alternating),
     a fourth draw for the open-set target, first run after the drift test had been rewritten from a
-    miss on ``quick``.  ``multirate``: 6 recordings with angle and velocity at 2 kHz, force at 1 kHz,
+    miss on ``quick``; ``outside_b``: a fifth draw of the same structure (seeds from 13000), first run
+    after the lost-motion test (``diagnosis/play.py``) had been written from the motor-side backlash
+    misses of the other five.  ``multirate``: 6 recordings with angle and velocity at 2 kHz, force at 1 kHz,
     current at 500 Hz, namespace /train5/car3/embu2, log lag up to 1.6 ms (3 no-effect, 3 with one
     catalog effect).  Unknown names raise ``ValueError``.
     """
@@ -359,9 +362,9 @@ def case_set(name: str) -> list[Case]:
         none0, effects0, prefix = DRAWS[name]
         return _none_cases(30, none0, prefix) + _effect_cases(
             effects0, forms_per_effect=2, variants=2, small=True, outside_per_kind=2, pairs=10)
-    if name == "outside":
-        seed0, per_kind = OUTSIDE_DRAW
-        return _outside_cases(np.random.default_rng(seed0), seed0, 0, per_kind)
+    if name in OUTSIDE_DRAWS:
+        seed0 = OUTSIDE_DRAWS[name]
+        return _outside_cases(np.random.default_rng(seed0), seed0, 0, OUTSIDE_PER_KIND)
     if name == "life":
         return _life_cases()
     if name == "multirate":
