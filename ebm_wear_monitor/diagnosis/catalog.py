@@ -53,8 +53,9 @@ data as a catalog effect, so the diagnosis names the effect and says what else i
   motion between the angle sensor and the pads delays contact by the same angle; what tells a play
   apart is the friction downstream of it that the motor does not feel while crossing it, some
   milliseconds at the start of an application and after contact is lost, which the block residuals
-  do not resolve.  Measured on the independent generator's backlash (README, "Outside effects"):
-  7 of 8 motor-side recordings read as clearance growth, 0 of 9 screw-side ones.
+  do not resolve.  The lost-motion test (:mod:`.play`) asks it after contact is lost in the release,
+  where the sampling puts at least three samples across the play; where it cannot, or finds the
+  clearance's friction, the summary says which.
 
 ``scale`` gives a typical magnitude per parameter (the solver's scaling);
 ``starts`` lists starting points (several for the non-linear Stribeck speed).

@@ -126,6 +126,18 @@ def _material_closed(ranking: Ranking, joint: EffectFit) -> str:
     return f" and {' and '.join(closed)} the twin within its tolerance leaves"
 
 
+def _look_alike(ranking: Ranking, f: EffectFit) -> str:
+    """What else an effect of the verdict can be (:attr:`.catalog.Effect.look_alike`), or, for a clearance
+    growth the lost-motion test could ask (:mod:`.play`), what it found."""
+    m = ranking.play
+    if f.effect.name == "clearance_growth" and m is not None:
+        return (f" The release crosses the extra clearance with {m.deficit:.3f} ± {m.deficit_std:.3f} N m "
+                f"less friction than the travel after it, under the {m.floor:.3f} N m a play between motor "
+                "and screw would have to show (it is crossed without the screw's friction): a wider "
+                "clearance.")
+    return f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as {f.effect.look_alike}."
+
+
 def summary(ranking: Ranking) -> str:
     """The verdict in plain words."""
     gap = f"held-out gap {ranking.gap_before:.2f} x noise"
@@ -133,8 +145,7 @@ def summary(ranking: Ranking) -> str:
         parts = [describe(f) for f in sorted(ranking.selected, key=lambda f: -f.score)]
         joint = ranking.joint
         assert joint is not None  # an "effect" verdict rests on the selected effects fitted together
-        alike = "".join(f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as "
-                        f"{f.effect.look_alike}." for f in ranking.selected if f.effect.look_alike)
+        alike = "".join(_look_alike(ranking, f) for f in ranking.selected if f.effect.look_alike)
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
                 f"{100.0 * joint.shrink:.0f} % of the {gap}{_material_closed(ranking, joint)}.{alike}")
     o = ranking.open_set
