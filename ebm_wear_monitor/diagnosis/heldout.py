@@ -13,6 +13,14 @@ from scipy import stats
 MATERIAL_Z = 1.6448536269514722
 
 
+def exceeds(size: float, std: float, floor: float, dof: int | None = None) -> bool:
+    """``size`` exceeds ``floor`` with 95 % confidence: size - q std > floor, q the one-sided 95 % quantile
+    of the normal distribution (``MATERIAL_Z``) or, for a standard error from ``dof`` degrees of freedom,
+    of Student's t."""
+    q = MATERIAL_Z if dof is None else float(stats.t.ppf(0.95, dof))
+    return size - q * std > floor
+
+
 def improvement_u(z_before: np.ndarray, z_after: np.ndarray) -> float | None:
     """The statistic U of the held-out comparison of two fitted corrections (None when they agree).
 

@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ebm_wear_monitor.diagnosis import tolerance
-from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import exceeds, improvement_p
 from ebm_wear_monitor.diagnosis.residuals import block_mean
 
 #: harmonics of the screw angle tried (per screw revolution)
@@ -79,7 +79,7 @@ class Periodic:
 
     def counts(self, level: float) -> bool:
         """Significant at ``level`` and material with 95 % confidence (module docstring)."""
-        return self.p_value < level and self.rms - MATERIAL_Z * self.rms_std > self.floor
+        return self.p_value < level and exceeds(self.rms, self.rms_std, self.floor)
 
 
 def block_basis(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, k: int) -> np.ndarray:

@@ -1037,7 +1037,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
                        sc.split.heldout) if verdict != "unexplained" else None
     if rest is not None and rest.counts(ALPHA):
         verdict = "unexplained"
-    play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout) \
+    play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout_cycles) \
         if verdict == "effect" and any(f.effect.name == "clearance_growth" for f in selected) else None
     if play is not None and play.counts(ALPHA):
         verdict = "unexplained"

@@ -310,6 +310,7 @@ class ResidualModel:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
         b = self.blocks
         self._dt_block = rec.t[b.stop] - rec.t[b.start]
+        self._dw_block = self.w_m[b.stop] - self.w_m[b.start]
         self.unresolved_torque = self._unresolved_torque()
         self.ambiguous_torque = self._ambiguous_torque()
         self.drive_torque_nominal = nominal.torque_constant * rec.current  # 004 eq. 7 [N m]
@@ -473,17 +474,19 @@ class ResidualModel:
         if C is None:
             key = ("torque", *(getattr(aug, f) for f in TORQUE_INPUTS))
             return self._residuals.get(key, lambda: self.torque_residual(aug, self._net_integral(aug)))
-        return self._span_residual(aug, C, self.blocks.start, self.blocks.stop)
+        b = self.blocks
+        return self._span_residual(aug, C, b.start, b.stop, self._dw_block, self._dt_block)
 
     def span_torque_residual(self, aug: Augment, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
         """R_T over the sample spans ``start .. stop`` of any windows, not only the blocks [N m] (the
         formula of the module docstring)."""
-        return self._span_residual(aug, self._net_integral(aug), start, stop)
+        dw, dt = self.w_m[stop] - self.w_m[start], self.rec.t[stop] - self.rec.t[start]
+        return self._span_residual(aug, self._net_integral(aug), start, stop, dw, dt)
 
-    def _span_residual(self, aug: Augment, C: np.ndarray, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
+    def _span_residual(self, aug: Augment, C: np.ndarray, start: np.ndarray, stop: np.ndarray, dw: np.ndarray,
+                       dt: np.ndarray) -> np.ndarray:
         J = self.nominal.inertia * (1.0 + aug.inertia_gain)
-        dw = self.w_m[stop] - self.w_m[start]
-        return (C[stop] - C[start] - J * dw) / (self.rec.t[stop] - self.rec.t[start])
+        return (C[stop] - C[start] - J * dw) / dt
 
     def force_residual(self, aug: Augment) -> np.ndarray:
         """R_F per block: mean tared reading minus the model's [N] (remembered for the :data:`FORCE_INPUTS`

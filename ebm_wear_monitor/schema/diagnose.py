@@ -196,15 +196,18 @@ class RestTorque(Record):
 class LostMotionTest(Record):
     """Friction over the extra clearance of the verdict's model in the release (diagnosis/play.py)."""
 
-    cycles: int = quantity("", "held-out applications whose release samples both travel windows",
-                           json="cycles")
+    crossings: int = quantity("", "held-out release crossings with both travel windows sampled",
+                              json="crossings")
     travel_m: float = quantity("m", "the extra clearance of the verdict's model: the window's length in nut "
                                "travel", json="travel_m")
     deficit_Nm: float = quantity("N m", "mean friction the recording lacks over the extra clearance compared "
                                  "with the same travel after it (a play: the screw's friction)",
                                  json="deficit_Nm")
     deficit_std_Nm: float = quantity("N m", "standard error of that mean", json="deficit_std_Nm")
-    floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque", json="floor_Nm")
+    budget_Nm: float = quantity("N m", "how far the model-tolerance budget at its bounds moves the mean "
+                                "deficit, summed over its entries", json="budget_Nm")
+    floor_Nm: float = quantity("N m", "materiality bound: 2 % of the RMS motor torque; material: the "
+                               "deficit above it and above budget_Nm with 95 % confidence", json="floor_Nm")
     p_value: float = quantity("-", "one-sided t test of the mean deficit against zero", json="p_value")
     decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
 

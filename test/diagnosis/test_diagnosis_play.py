@@ -49,13 +49,14 @@ def test_the_release_crosses_a_play_without_the_screws_friction(seed):
     sc = scorer(recording(seed, play=PLAY, play_share=SHARE, angle_side="motor"))
     m = sc.model
     aug = Augment(clearance=PLAY)
-    res = lost_motion(m, aug, sc.split.heldout)
-    assert res is not None and res.cycles >= 4
+    res = lost_motion(m, aug, sc.split.heldout_cycles)
+    assert res is not None and res.crossings >= 4
     assert res.counts(ALPHA), res
     window = ((m.seg.phase == Phase.FORCE_RELEASE) & (m.sign < 0) & (m.x > X_AG) & (m.x <= X_AG + PLAY))
     law = NOM.friction
     expected = SHARE * (law.coulomb + law.viscous * float(np.mean(m.speed[window])))
-    assert res.deficit == pytest.approx(expected, rel=0.25), (res.deficit, expected)
+    assert abs(res.deficit - expected) < 0.1 * expected + 3.0 * res.deficit_std, (res.deficit, expected)
+    assert res.budget < 0.5 * res.deficit  # the tolerances at their bounds move it far less
     assert res.travel == PLAY
 
 
@@ -63,23 +64,23 @@ def test_the_release_crosses_a_play_without_the_screws_friction(seed):
 def test_a_clearance_growth_is_crossed_with_the_screws_friction(seed):
     # the same lost motion as a wider clearance: the screw moves over it with all of its friction
     sc = scorer(recording(seed, aug=Augment(clearance=PLAY)))
-    res = lost_motion(sc.model, Augment(clearance=PLAY), sc.split.heldout)
-    assert res is not None and res.cycles >= 4
+    res = lost_motion(sc.model, Augment(clearance=PLAY), sc.split.heldout_cycles)
+    assert res is not None and res.crossings >= 4
     assert not res.counts(ALPHA), res
     assert abs(res.deficit) < 3.0 * res.deficit_std + 0.01  # closed form: 0
 
 
 def test_no_extra_clearance_no_test():
     sc = scorer(recording(0))
-    assert lost_motion(sc.model, Augment(), sc.split.heldout) is None
-    assert lost_motion(sc.model, Augment(clearance=-PLAY), sc.split.heldout) is None
+    assert lost_motion(sc.model, Augment(), sc.split.heldout_cycles) is None
+    assert lost_motion(sc.model, Augment(clearance=-PLAY), sc.split.heldout_cycles) is None
 
 
 def test_too_few_samples_in_the_window_no_test():
     # at 500 Hz the release crosses 40 µm in one or two samples (module docstring, "Reach")
     rec = synth(NOM, Augment(), cycles=12, rate=500.0, seed=0, play=PLAY, angle_side="motor")
     sc = scorer(rec)
-    assert lost_motion(sc.model, Augment(clearance=PLAY), sc.split.heldout) is None
+    assert lost_motion(sc.model, Augment(clearance=PLAY), sc.split.heldout_cycles) is None
 
 
 def test_a_play_read_as_clearance_growth_turns_unexplained(tmp_path):
@@ -92,7 +93,7 @@ def test_a_play_read_as_clearance_growth_turns_unexplained(tmp_path):
     assert r.play is not None and r.play_decided and r.verdict == "unexplained"
     assert r.play.travel == pytest.approx(PLAY, rel=0.1)
     text = summary(r)
-    assert "less friction than the travel after it" in text and "play of about 40 µm" in text
+    assert "less friction than the travel after it" in text and "play of up to 40 µm" in text
     res, sc, ranking = diagnose_with_state(rec, load_unit())  # the pipeline's own scorer (two noise passes)
     assert res.verdict == "unexplained" and res.lost_motion is not None and res.lost_motion.decided
     assert ranking.play is not None
@@ -109,12 +110,44 @@ def test_a_clearance_growth_summary_says_what_the_release_showed():
     r = rank(sc, build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max())))
     assert r.verdict == "effect" and r.play is not None and not r.play_decided
     text = summary(r)
-    assert text.startswith("axial clearance larger than nominal") and text.endswith(": a wider clearance.")
-    held = dataclasses.replace(r, play=LostMotion(6, PLAY, 0.2, 0.02, 0.03, 1e-4))
-    assert held.play_decided  # 0.2 ± 0.02 N m against 0.03 N m: material
+    assert text.startswith("axial clearance larger than nominal") and text.endswith("read as a wider clearance.")
     # ... not asked (too few samples across the extra clearance at 250 Hz): it names the look-alike
     rec = synth(NOM, Augment(clearance=PLAY), cycles=12, rate=250.0, seed=1)
     sc = scorer(rec)
     r = rank(sc, build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max())))
     assert r.verdict == "effect" and r.play is None
     assert "reads the same as a play of the same size between the motor and the screw" in summary(r)
+
+
+@pytest.mark.parametrize(("deficit", "decided"), [(0.10, True), (0.08, False)])
+def test_material_means_beyond_the_budget_and_the_floor_with_95_percent_confidence(deficit, decided):
+    # 6 crossings: Student's t quantile 2.015 (one-sided 95 %, 5 degrees of freedom) times 0.01 N m; the
+    # larger of the budget (0.07 N m) and the floor (0.03 N m) decides: 0.10 - 0.020 > 0.07 > 0.08 - 0.020
+    assert LostMotion(6, PLAY, deficit, 0.01, 0.07, 0.03, 1e-4).counts(ALPHA) is decided
+    assert not LostMotion(6, PLAY, 0.10, 0.01, 0.07, 0.03, 0.2).counts(ALPHA)  # not significant
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_unit_within_its_tolerance_is_not_a_play(sign):
+    # a large clearance growth crossed in brisk releases: the release accelerates across the two windows, so
+    # the inertia and K_T tolerances act differently on them. The recording's unit has J_me 2 % above and
+    # K_T 2 % below the twin (or the reverse): within the budget, so the deficit they make stays within
+    # the budget's sum and is not decided, although significant
+    dx = 250e-6
+    rec = synth(NOM, Augment(clearance=dx), cycles=40, rate=RATE, seed=2, durations=(0.1, 0.15))
+    sc = scorer(rec)
+    res = lost_motion(sc.model, Augment(clearance=dx, inertia_gain=sign * 0.02, drive_gain=-sign * 0.02),
+                      sc.split.heldout_cycles)
+    assert res is not None and res.crossings >= 10
+    assert abs(res.deficit) < res.budget + 3.0 * res.deficit_std and not res.counts(ALPHA), res
+
+
+def test_a_play_inside_a_clearance_growth_is_diluted_but_found():
+    # 40 µm of play beside 160 µm of real growth: the window of 200 µm holds the play over a fifth of it,
+    # so the deficit is about a fifth of the play's (module docstring)
+    rec = recording(0, aug=Augment(clearance=160e-6), play=PLAY, play_share=SHARE, angle_side="motor")
+    sc = scorer(rec)
+    res = lost_motion(sc.model, Augment(clearance=200e-6), sc.split.heldout_cycles)
+    assert res is not None
+    full = SHARE * NOM.friction.coulomb
+    assert 0.1 * full < res.deficit < 0.5 * full, (res.deficit, full)
