@@ -4,7 +4,6 @@ release crosses it without the screw's friction, a clearance with it."""
 
 from __future__ import annotations
 
-import dataclasses
 import sys
 from pathlib import Path
 
