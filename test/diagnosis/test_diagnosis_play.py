@@ -109,7 +109,8 @@ def test_a_clearance_growth_summary_says_what_the_release_showed():
     r = rank(sc, build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max())))
     assert r.verdict == "effect" and r.play is not None and not r.play_decided
     text = summary(r)
-    assert text.startswith("axial clearance larger than nominal") and text.endswith("read as a wider clearance.")
+    assert text.startswith("axial clearance larger than nominal")
+    assert text.endswith("read as a wider clearance.")
     # ... not asked (too few samples across the extra clearance at 250 Hz): it names the look-alike
     rec = synth(NOM, Augment(clearance=PLAY), cycles=12, rate=250.0, seed=1)
     sc = scorer(rec)
