@@ -475,18 +475,21 @@ class ResidualModel:
             key = ("torque", *(getattr(aug, f) for f in TORQUE_INPUTS))
             return self._residuals.get(key, lambda: self.torque_residual(aug, self._net_integral(aug)))
         b = self.blocks
-        return self._span_residual(aug, C, b.start, b.stop, self._dw_block, self._dt_block)
+        return self._span_residual(aug, C[b.stop] - C[b.start], self._dw_block, self._dt_block)
 
     def span_torque_residual(self, aug: Augment, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
         """R_T over the sample spans ``start .. stop`` of any windows, not only the blocks [N m] (the
         formula of the module docstring)."""
         dw, dt = self.w_m[stop] - self.w_m[start], self.rec.t[stop] - self.rec.t[start]
-        return self._span_residual(aug, self._net_integral(aug), start, stop, dw, dt)
+        C = self._net_integral(aug)
+        return self._span_residual(aug, C[stop] - C[start], dw, dt)
 
-    def _span_residual(self, aug: Augment, C: np.ndarray, start: np.ndarray, stop: np.ndarray, dw: np.ndarray,
-                       dt: np.ndarray) -> np.ndarray:
+    def _span_residual(self, aug: Augment, dC: np.ndarray, dw: np.ndarray, dt: np.ndarray) -> np.ndarray:
+        """R_T from the net-torque integral ``dC`` [N m s], speed change ``dw`` [rad/s] and duration ``dt``
+        [s] of each span."""
         J = self.nominal.inertia * (1.0 + aug.inertia_gain)
-        return (C[stop] - C[start] - J * dw) / dt
+        result: np.ndarray = (dC - J * dw) / dt
+        return result
 
     def force_residual(self, aug: Augment) -> np.ndarray:
         """R_F per block: mean tared reading minus the model's [N] (remembered for the :data:`FORCE_INPUTS`
