@@ -52,7 +52,7 @@ from ebm_wear_monitor.schema.diagnose import (
     FrictionRefit,
     LostMotionTest,
     PositionTorque,
-    RestTorque,
+    RestTorqueTest,
 )
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, actuator_model
 
@@ -263,12 +263,12 @@ def position_torque(ranking: Ranking) -> PositionTorque | None:
     return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.decided)
 
 
-def rest_report(ranking: Ranking) -> RestTorque | None:
+def rest_report(ranking: Ranking) -> RestTorqueTest | None:
     """The breakaway-band test of the verdict's model at rest (:mod:`.stick`), as reported."""
     r = ranking.rest
     if r is None:
         return None
-    return RestTorque(r.cycles, r.violated, r.excess, r.band, r.floor, r.p_value, ranking.rest_decided)
+    return RestTorqueTest(r.cycles, r.violated, r.excess, r.band, r.floor, r.p_value, ranking.rest_decided)
 
 
 def play_report(ranking: Ranking) -> LostMotionTest | None:

@@ -176,7 +176,7 @@ class PositionTorque(Record):
 
 
 @dataclass(frozen=True)
-class RestTorque(Record):
+class RestTorqueTest(Record):
     """Drive held at rest beyond 004 eq. 9's breakaway band by the verdict's model (diagnosis/stick.py)."""
 
     cycles: int = quantity("", "held-out applications with a block at rest", json="cycles")
@@ -279,7 +279,7 @@ class DiagnosisResult(Record):
     position_torque: PositionTorque | None = quantity(
         "", "torque depending on the screw position left by the verdict's model (null: not tested)",
         json="position_torque", default=None)
-    rest_torque: RestTorque | None = quantity(
+    rest_torque: RestTorqueTest | None = quantity(
         "", "drive held at rest beyond the breakaway band of the verdict's model (null: not tested)",
         json="rest_torque", default=None)
     lost_motion: LostMotionTest | None = quantity(
