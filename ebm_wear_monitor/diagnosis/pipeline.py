@@ -131,10 +131,10 @@ def _look_alike(ranking: Ranking, f: EffectFit) -> str:
     growth the lost-motion test could ask (:mod:`.play`), what it found."""
     m = ranking.play
     if f.effect.name == "clearance_growth" and m is not None:
-        return (f" In the release the friction over the extra clearance differs from that of the travel "
-                f"after it by {-m.deficit:+.3f} ± {m.deficit_std:.3f} N m; a play between motor and screw, "
-                f"crossed without the screw's friction, would lack more than {max(m.budget, m.floor):.3f} "
-                "N m there: read as a wider clearance.")
+        return (f" In the release the extra clearance lacks {m.deficit:+.3f} ± {m.deficit_std:.3f} N m of "
+                "friction against the travel right after it; a play between motor and screw, crossed "
+                "without the screw's friction, would lack significantly more than "
+                f"{max(m.budget, m.floor):.3f} N m there: read as a wider clearance.")
     return f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as {f.effect.look_alike}."
 
 
@@ -174,8 +174,9 @@ def summary(ranking: Ranking) -> str:
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
         size = f"{1e6 * m.travel:.0f} µm"
         return (f"The twin fits the recording with {named}, an extra clearance of {size}, but in "
-                f"{m.crossings} held-out releases the motor crosses that extra travel with {m.deficit:.2f} ± "
-                f"{m.deficit_std:.2f} N m less friction than the travel after it: the motor turns there "
+                f"{m.crossings} held-out releases the motor crosses that extra travel with "
+                f"{m.deficit:.3f} ± {m.deficit_std:.3f} N m less friction than the travel right after it: "
+                "the motor turns there "
                 f"without the screw. That is a play of up to {size} of nut travel between the motor and "
                 "the screw (gear, coupling), not a wider brake clearance, which the screw crosses with its "
                 "friction; or a friction that changes with the screw's position there. No known effect "

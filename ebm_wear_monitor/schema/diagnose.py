@@ -201,7 +201,7 @@ class LostMotionTest(Record):
     travel_m: float = quantity("m", "the extra clearance of the verdict's model: the window's length in nut "
                                "travel", json="travel_m")
     deficit_Nm: float = quantity("N m", "mean friction the recording lacks over the extra clearance compared "
-                                 "with the same travel after it (a play: the screw's friction)",
+                                 "with the travel right after it (a play: the screw's friction)",
                                  json="deficit_Nm")
     deficit_std_Nm: float = quantity("N m", "standard error of that mean", json="deficit_std_Nm")
     budget_Nm: float = quantity("N m", "how far the model-tolerance budget at its bounds moves the mean "

@@ -349,11 +349,11 @@ def case_set(name: str) -> list[Case]:
     applications) of healthy units whose true clearance follows a schedule (``LIFE``).
     ``outside``: 40 recordings of the effects outside the catalog (10 per effect, forms alternating),
     a fourth draw for the open-set target, first run after the drift test had been rewritten from a
-    miss on ``quick``; ``outside_b``: the same structure drawn again (seeds from 13000), the sixth diagnosis
-    set, first run after the lost-motion test (``diagnosis/play.py``) had been written from the
-    motor-side backlash misses of the other five.  ``multirate``: 6 recordings with angle and velocity at 2 kHz, force at 1 kHz,
-    current at 500 Hz, namespace /train5/car3/embu2, log lag up to 1.6 ms (3 no-effect, 3 with one
-    catalog effect).  Unknown names raise ``ValueError``.
+    miss on ``quick``; ``outside_b``: the same structure drawn again (seeds from 13000), the sixth
+    diagnosis set, first run after the lost-motion test (``diagnosis/play.py``) had been written from
+    the motor-side backlash misses of the other five.  ``multirate``: 6 recordings with angle and
+    velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
+    1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
     """
     if name == "quick":
         return _none_cases(6, 1000, "none_q") + _effect_cases(
