@@ -327,8 +327,7 @@ class Scorer:
     def responses(self, aug: Augment) -> np.ndarray:
         """dz/dt of every budget entry at ``aug``, all rows (torque then force, every block)."""
         z0 = self.z_all(aug)
-        return np.stack([self.z_all(tolerance.apply(aug, t.deviation(self.model.nominal))) - z0
-                         for t in tolerance.BUDGET], axis=1)
+        return np.stack([self.z_all(a) - z0 for a in tolerance.at_bounds(aug, self.model.nominal)], axis=1)
 
     def z_all(self, aug: Augment) -> np.ndarray:
         """Normalised residuals of every block, torque then force, none left out (the layout of ``D``)."""
@@ -1037,8 +1036,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
                        sc.split.heldout) if verdict != "unexplained" else None
     if rest is not None and rest.counts(ALPHA):
         verdict = "unexplained"
-    play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout_cycles) \
-        if verdict == "effect" and any(f.effect.name == "clearance_growth" for f in selected) else None
+    play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout_cycles) if verdict == "effect" else None
     if play is not None and play.counts(ALPHA):
         verdict = "unexplained"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \

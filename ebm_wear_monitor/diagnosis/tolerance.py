@@ -125,6 +125,12 @@ def apply(base: Augment, deviation: Augment) -> Augment:
                                         if getattr(deviation, f) != getattr(zero, f)})
 
 
+def at_bounds(aug: Augment, nominal: ActuatorModel) -> list[Augment]:
+    """``aug`` with each entry of the budget at its bound, in the order of ``BUDGET`` (the residuals are
+    linear in the deviations, so a residual's change at the bound is its response to the entry)."""
+    return [apply(aug, t.deviation(nominal)) for t in BUDGET]
+
+
 def free(effect_names: list[str]) -> list[bool]:
     """Which budget entries are tolerances while the named effects are fitted."""
     own = {name for e in effect_names for name in OWN.get(e, ())}
