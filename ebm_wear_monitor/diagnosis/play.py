@@ -103,7 +103,8 @@ class LostMotion:
 
 
 def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(first, last) sample of every contiguous run of ``mask`` (:func:`ebm_wear_monitor.domain.segmentation.runs`)."""
+    """(first, last) sample of every contiguous run of ``mask``
+    (:func:`ebm_wear_monitor.domain.segmentation.runs`)."""
     start, length = runs(mask)
     true = mask[start]
     return start[true], start[true] + length[true] - 1
