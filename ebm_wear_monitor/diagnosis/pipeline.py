@@ -53,6 +53,7 @@ from ebm_wear_monitor.schema.diagnose import (
     LostMotionTest,
     PositionTorque,
     RestTorqueTest,
+    TorqueScaleTest,
 )
 from ebm_wear_monitor.twin.dynamics import ActuatorModel, actuator_model
 
@@ -138,6 +139,13 @@ def _look_alike(ranking: Ranking, f: EffectFit) -> str:
     return f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as {f.effect.look_alike}."
 
 
+def _model_words(ranking: Ranking) -> str:
+    """The verdict's model in words: the twin with the selected effects, or within its tolerance."""
+    if ranking.joint is None:
+        return "within its tolerance"
+    return "with " + " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
+
+
 def summary(ranking: Ranking) -> str:
     """The verdict in plain words."""
     gap = f"held-out gap {ranking.gap_before:.2f} x noise"
@@ -159,10 +167,17 @@ def summary(ranking: Ranking) -> str:
         return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
                 f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
                 "the catalog is likely.")
+    s = ranking.scale
+    if s is not None and ranking.scale_decided:
+        size = f"{100.0 * s.gain:+.1f} % ± {100.0 * s.gain_std:.1f} %"
+        return (f"The recorded torque reads every term of the motor's torque balance (004 eq. 1: "
+                f"acceleration, friction and load alike) {size} off the twin {_model_words(ranking)}, beyond "
+                f"the ±{100.0 * s.bound:.0f} % tolerance of the torque constant times the current sensor's "
+                "gain: a loss of torque constant (a weakened magnet) or a current sensor out of its class. "
+                "No known effect scales the motor torque: an effect outside the catalog is likely.")
     r = ranking.rest
     if r is not None and ranking.rest_decided:
-        model = ("with " + " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-                 if ranking.joint is not None else "within its tolerance")
+        model = _model_words(ranking)
         return (f"In {r.violated} of {r.cycles} held-out applications the recorded screw stays at rest while "
                 f"the motor drives {r.excess:.2f} N m beyond the breakaway torque of the twin {model} "
                 f"(004 eq. 9; {r.band:.2f} N m, plus 2 % for K_T): the motor turns where the angle sees no "
@@ -250,6 +265,7 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
         noise={s: signal_noise(getattr(rec, s)) for s in SIGNALS},
         residual_method=RESIDUAL_METHOD,
         position_torque=position_torque(ranking),
+        torque_scale=scale_report(ranking),
         rest_torque=rest_report(ranking),
         lost_motion=play_report(ranking),
     ), sc, ranking)
@@ -262,6 +278,14 @@ def position_torque(ranking: Ranking) -> PositionTorque | None:
         return None
     p = o.periodic
     return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.decided)
+
+
+def scale_report(ranking: Ranking) -> TorqueScaleTest | None:
+    """The motor torque's scale test of the verdict's model (:mod:`.scale`), as reported."""
+    s = ranking.scale
+    if s is None:
+        return None
+    return TorqueScaleTest(s.gain, s.gain_std, s.fitted, s.bound, s.p_value, ranking.scale_decided)
 
 
 def rest_report(ranking: Ranking) -> RestTorqueTest | None:

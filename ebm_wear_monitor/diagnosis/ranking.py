@@ -92,7 +92,11 @@ data within its tolerance.  Then structure the catalog cannot represent is looke
 (:mod:`.openset`): a significant torque as a function of the screw angle that removes more of the
 explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
 (the effects closed less than half of what is explainable); a significant and material one turns
-``none`` into ``unexplained`` (:func:`open_set_verdict`).  Last, the band test at rest
+``none`` into ``unexplained`` (:func:`open_set_verdict`).  Then the motor torque's scale
+(:mod:`.scale`): when the verdict's model uses the budget's +-2 % on K_T x current gain up to its bound
+and the held-out torque wants significantly more, beyond the bound with 95 % confidence, every term
+of eq. 1 is read through a scale no catalog effect changes (a torque-constant loss, a current sensor
+out of its class), and ``effect`` or ``none`` becomes ``unexplained``.  Last, the band test at rest
 (:mod:`.stick`): when the verdict's model (the selected effects, or the twin within its tolerance)
 cannot hold the drive the recording shows at rest within 004 eq. 9's breakaway band, in
 significantly many held-out applications and by a material torque, the motor turned where the angle
@@ -122,7 +126,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from ebm_wear_monitor.diagnosis import heldout, tolerance
+from ebm_wear_monitor.diagnosis import heldout, scale, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.noise import median_scale, series_noise, signal_noise
@@ -137,6 +141,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     clamp_spring,
     kinetic_friction,
 )
+from ebm_wear_monitor.diagnosis.scale import TorqueScale, torque_scale
 from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
@@ -825,10 +830,18 @@ class Ranking:
     verdict: str  # "effect" | "none" | "unexplained"
     alpha: float
     open_set: OpenSet | None = None  # the screw-position test of the verdict's model (None: not tested)
+    #: the motor torque's scale the verdict's model leaves, against its tolerance (:mod:`.scale`; None: not
+    #: tested)
+    scale: TorqueScale | None = None
     #: the breakaway-band test of the verdict's model at rest (:mod:`.stick`; None: not tested)
     rest: RestTorque | None = None
     #: the friction over the extra clearance of the verdict's model (:mod:`.play`; None: not tested)
     play: LostMotion | None = None
+
+    @property
+    def scale_decided(self) -> bool:
+        """The scale test turned the verdict into ``unexplained`` (it runs only on another verdict)."""
+        return self.scale is not None and self.scale.counts(ALPHA)
 
     @property
     def rest_decided(self) -> bool:
@@ -1032,6 +1045,9 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         opened = open_set_verdict(verdict, periodic, share_closed)
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
+    drive_scale = motor_scale(sc, verdict_model) if verdict != "unexplained" else None
+    if drive_scale is not None and drive_scale.counts(ALPHA):
+        verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
                        sc.split.heldout) if verdict != "unexplained" else None
     if rest is not None and rest.counts(ALPHA):
@@ -1042,7 +1058,17 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
     return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set,
-                   rest, play)
+                   drive_scale, rest, play)
+
+
+def motor_scale(sc: Scorer, m: Model) -> TorqueScale | None:
+    """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
+    (:mod:`.scale`)."""
+    moving = sc.model.blocks.moving
+    i = scale.entry_index()
+    return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
+                        bound=scale.budget_bound(sc.model.nominal), calibration=sc.split.calibration[moving],
+                        heldout=sc.split.heldout[moving])
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

@@ -176,6 +176,22 @@ class PositionTorque(Record):
 
 
 @dataclass(frozen=True)
+class TorqueScaleTest(Record):
+    """The motor torque's scale K_T x current gain the verdict's model leaves, against its tolerance
+    (diagnosis/scale.py)."""
+
+    gain: float = quantity("-", "total relative deviation of K_T x current gain the held-out torque wants "
+                           "(-0.08: 8 % low)", json="gain")
+    gain_std: float = quantity("-", "its standard error", json="gain_std")
+    fitted: float = quantity("-", "the deviation the verdict's model took within the budget", json="fitted")
+    bound: float = quantity("-", "the budget's bound on it; material: |gain| above it with 95 % confidence",
+                            json="bound")
+    p_value: float = quantity("-", "held-out improvement test of the scale beyond the model's",
+                              json="p_value")
+    decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
+
+
+@dataclass(frozen=True)
 class RestTorqueTest(Record):
     """Drive held at rest beyond 004 eq. 9's breakaway band by the verdict's model (diagnosis/stick.py)."""
 
@@ -279,6 +295,9 @@ class DiagnosisResult(Record):
     position_torque: PositionTorque | None = quantity(
         "", "torque depending on the screw position left by the verdict's model (null: not tested)",
         json="position_torque", default=None)
+    torque_scale: TorqueScaleTest | None = quantity(
+        "", "the motor torque's scale the verdict's model leaves, against its tolerance (null: not tested)",
+        json="torque_scale", default=None)
     rest_torque: RestTorqueTest | None = quantity(
         "", "drive held at rest beyond the breakaway band of the verdict's model (null: not tested)",
         json="rest_torque", default=None)
