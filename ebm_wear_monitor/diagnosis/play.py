@@ -59,9 +59,10 @@ play is crossed the motor also moves without the screw's inertia, J_s / i_g^2 + 
 form. A play crossed while the motor accelerates from rest (at the start of an application) is not
 used: there the inertia torque, 004 eq. 1, dwarfs the friction.
 
-**Level.**  The test runs at ``ALPHA`` beside the screw-position harmonic and the band test at rest
-(:mod:`.ranking`), so on a clearance-growth verdict the three routes to ``unexplained`` together may
-reach about three times ``ALPHA``; the materiality conditions decide in practice (a play's deficit
+**Level.**  The test runs at ``ALPHA`` beside the screw-position harmonic, the motor torque's scale
+and the band test at rest (:mod:`.ranking`), so on a clearance-growth verdict the four routes to
+``unexplained`` together may reach about three times ``ALPHA``; the materiality conditions decide in
+practice (a play's deficit
 was significant at p ≤ 6e-5 on every foreign play where the test was made).
 """
 

@@ -63,9 +63,10 @@ drive at rest beyond *twice* what the model's friction holds: no friction change
 range, which moves T_fs by fractions of itself) and ``MATERIAL_SHARE['torque']`` (2 %) of the RMS
 motor torque over the moving blocks, the floor of :mod:`.openset`'s test.
 
-**Level.**  The test is a second route from ``effect`` or ``none`` to ``unexplained`` beside the
-screw-position harmonic (:mod:`.openset`, at ``ALPHA`` / 4), each at its own level, so together
-they may reach about twice ``ALPHA``; the materiality conditions, not the levels, decide in practice.
+**Level.**  The test is a route from ``effect`` or ``none`` to ``unexplained`` beside the
+screw-position harmonic (:mod:`.openset`, at ``ALPHA`` / 4) and the motor torque's scale
+(:mod:`.scale`, at ``ALPHA``), each at its own level, so together they may reach about twice
+``ALPHA``; the materiality conditions, not the levels, decide in practice.
 """
 
 from __future__ import annotations

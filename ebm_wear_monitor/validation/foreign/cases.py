@@ -347,8 +347,8 @@ def case_set(name: str) -> list[Case]:
     controllers, conventions and noise): a second draw, first run after the diagnosis's noise model
     had been chosen on ``full``; ``full_c``: a third draw, first run after the floating step of the
     selection had been written from a miss on ``full_b``; ``full_d``: a fourth draw (seeds 16000 and
-    17000), first run after the motor-torque scale test (``diagnosis/scale.py``). ``life``: 12 long recordings (150-240
-    applications) of healthy units whose true clearance follows a schedule (``LIFE``).
+    17000), first run after the motor-torque scale test (``diagnosis/scale.py``). ``life``: 12 long
+    recordings (150-240 applications) of healthy units whose true clearance follows a schedule (``LIFE``).
     ``outside``: 40 recordings of the effects outside the catalog (10 per effect, forms alternating),
     a fourth draw for the open-set target, first run after the drift test had been rewritten from a
     miss on ``quick``; ``outside_b``: the same structure drawn again (seeds from 13000), the sixth
