@@ -32,6 +32,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     METRIC,
     SHRINK_NEEDED,
     EffectFit,
+    OpenSet,
     Ranking,
     Scorer,
     evaluate,
@@ -146,6 +147,15 @@ def _model_words(ranking: Ranking) -> str:
     return "with " + " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
 
 
+def _ripple(o: OpenSet | None) -> str:
+    """What else a motor-torque scale can be when the torque also depends on the screw's position."""
+    if o is None or not o.significant:
+        return ""
+    return (f" The torque residual also depends on where the screw is ({1e3 * o.periodic.rms:.0f} mN m RMS, "
+            f"p = {o.periodic.p_value:.1g}): a torque ripple in phase with the drive over the stroke reads "
+            "the same.")
+
+
 def summary(ranking: Ranking) -> str:
     """The verdict in plain words."""
     gap = f"held-out gap {ranking.gap_before:.2f} x noise"
@@ -174,7 +184,8 @@ def summary(ranking: Ranking) -> str:
                 f"acceleration, friction and load alike) {size} off the twin {_model_words(ranking)}, beyond "
                 f"the ±{100.0 * s.bound:.0f} % tolerance of the torque constant times the current sensor's "
                 "gain: a loss of torque constant (a weakened magnet) or a current sensor out of its class. "
-                "No known effect scales the motor torque: an effect outside the catalog is likely.")
+                "No known effect scales the motor torque: an effect outside the catalog is likely."
+                + _ripple(o))
     r = ranking.rest
     if r is not None and ranking.rest_decided:
         model = _model_words(ranking)

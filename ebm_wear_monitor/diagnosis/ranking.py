@@ -157,6 +157,8 @@ NOISE_SCALE_MIN = 0.1
 #: fewest rows a median scale is measured on (:meth:`Scorer.noise_scale`)
 MIN_SCALE_ROWS = 10
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
+#: level of the screw-position harmonic (:mod:`.openset`): ALPHA over the harmonics tried
+OPEN_SET_LEVEL = ALPHA / HARMONICS
 METRIC = "excess_rms_over_noise"
 FORCE_TIMING_S = 3e-3  # force skew searched within +-(its sample interval + this) [s]
 FORCE_LAG_S = 5e-3  # largest first-order lag of the force reading considered [s]
@@ -814,6 +816,11 @@ class OpenSet:
     share: float | None  # share of the explainable error the effects close (:func:`effects_share`)
     decided: bool  # it turned the verdict into ``unexplained``
 
+    @property
+    def significant(self) -> bool:
+        """The harmonic is significant at the open-set level (:data:`OPEN_SET_LEVEL`), material or not."""
+        return self.periodic.p_value < OPEN_SET_LEVEL
+
 
 @dataclass
 class Ranking:
@@ -1110,10 +1117,10 @@ def open_set_verdict(verdict: str, periodic: Periodic | None, share: float | Non
     """
     if periodic is None:
         return verdict
-    level = ALPHA / HARMONICS
     if verdict == "none":
-        return "unexplained" if periodic.counts(level) else verdict
-    if verdict == "effect" and share is not None and periodic.p_value < level and share < SHRINK_NEEDED:
+        return "unexplained" if periodic.counts(OPEN_SET_LEVEL) else verdict
+    significant = periodic.p_value < OPEN_SET_LEVEL
+    if verdict == "effect" and share is not None and significant and share < SHRINK_NEEDED:
         return "unexplained"
     return verdict
 

@@ -43,12 +43,13 @@ selected, g = -3.5 to -3.8 %; with effects selected, g is what they leave, e.g. 
 16.4 % loss read as Stribeck and load friction). A current-sensor gain beyond its class reads the
 same as a torque-constant loss (both scale K_T i), and any torque that grows with the motor torque
 can use the same freedom: on the foreign draws three torque ripples in phase with the drive over
-the stroke read g = +-2.7 %, so the verdict ``unexplained`` was right there and the summary's
-words (torque constant, current sensor) were not. The test says the scale is outside the budget,
-not what moved it. An effect that owns the ``torque_constant`` entry (an efficiency variation, a
-force-sensor bias: :data:`.tolerance.OWN`) holds t at zero; its own size absorbs the scale of the
-load torque, and the test asks only whether the rest (inertia and friction) wants a scale beyond
-+-2 %.
+the stroke read g = +-2.7 %: the verdict ``unexplained`` is right there, the words torque constant
+and current sensor are not, so where the screw-position harmonic (:mod:`.openset`) is significant
+beside it the summary names the ripple as reading the same (on all three, and on one of the four
+losses). The test says the scale is outside the budget, not what moved it. An effect that owns
+the ``torque_constant`` entry (an efficiency variation, a force-sensor bias:
+:data:`.tolerance.OWN`) holds t at zero; its own size absorbs the scale of the load torque, and the
+test asks only whether the rest (inertia and friction) wants a scale beyond +-2 %.
 
 **Level.**  The test runs at ``ALPHA`` on ``effect`` and ``none`` verdicts beside the screw-position
 harmonic (:mod:`.openset`), the band test at rest (:mod:`.stick`) and, on a clearance growth, the

@@ -4,6 +4,7 @@ the twin reads K_T (1 + g) I, so the data want g = -s, of which the budget allow
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -15,8 +16,9 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis import scale, tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
+from ebm_wear_monitor.diagnosis.openset import Periodic
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state, residual_model, summary
-from ebm_wear_monitor.diagnosis.ranking import ALPHA, Scorer, motor_scale, rank
+from ebm_wear_monitor.diagnosis.ranking import ALPHA, OpenSet, Scorer, motor_scale, rank
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
 
@@ -68,6 +70,13 @@ def test_a_loss_read_as_load_friction_turns_unexplained_and_says_why():
     assert r.scale is not None and r.scale.gain < -0.02
     text = summary(r)
     assert "torque constant" in text and f"{100.0 * r.scale.gain:+.1f} %" in text
+    # a torque depending on the screw's position, significant beside it, is named as the look-alike
+    for p_value, named in ((1e-5, True), (0.5, False)):
+        harmonic = Periodic(3, 0.05, 0.035, 0.002, 0.04, p_value, 100.0, 90.0)
+        text = summary(dataclasses.replace(r, open_set=OpenSet(harmonic, True, 0.9, False)))
+        ripple = "a torque ripple in phase with the drive over the stroke reads the same."
+        assert text.endswith(ripple) is named
+        assert ("35 mN m RMS" in text) is named
 
 
 def test_the_report_carries_the_test():
