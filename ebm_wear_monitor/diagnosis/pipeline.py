@@ -181,10 +181,11 @@ def summary(ranking: Ranking) -> str:
     if s is not None and ranking.scale_decided:
         size = f"{100.0 * s.gain:+.1f} % ± {100.0 * s.gain_std:.1f} %"
         return (f"The recorded torque reads every term of the motor's torque balance (004 eq. 1: "
-                f"acceleration, friction and load alike) {size} off the twin {_model_words(ranking)}, beyond "
-                f"the ±{100.0 * s.bound:.0f} % tolerance of the torque constant times the current sensor's "
-                "gain: a loss of torque constant (a weakened magnet) or a current sensor out of its class. "
-                "No known effect scales the motor torque: an effect outside the catalog is likely."
+                f"acceleration, friction and load alike) at least {size} off the twin "
+                f"{_model_words(ranking)}, beyond the ±{100.0 * s.bound:.0f} % tolerance of the torque "
+                "constant times the current sensor's gain: a loss of torque constant (a weakened magnet) "
+                "or a current sensor out of its class. No known effect scales the motor torque: an effect "
+                "outside the catalog is likely."
                 + _ripple(o))
     r = ranking.rest
     if r is not None and ranking.rest_decided:

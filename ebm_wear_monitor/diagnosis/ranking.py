@@ -126,7 +126,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from ebm_wear_monitor.diagnosis import heldout, scale, tolerance
+from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.noise import median_scale, series_noise, signal_noise
@@ -141,7 +141,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     clamp_spring,
     kinetic_friction,
 )
-from ebm_wear_monitor.diagnosis.scale import TorqueScale, torque_scale
+from ebm_wear_monitor.diagnosis.scale import TorqueScale, budget_bound, entry_index, torque_scale
 from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
@@ -1071,11 +1071,11 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
 def motor_scale(sc: Scorer, m: Model) -> TorqueScale | None:
     """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
     (:mod:`.scale`)."""
-    moving = sc.model.blocks.moving
-    i = scale.entry_index()
+    b, i = sc.model.blocks, entry_index()
+    moving = b.moving
     return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
-                        bound=scale.budget_bound(sc.model.nominal), calibration=sc.split.calibration[moving],
-                        heldout=sc.split.heldout[moving])
+                        bound=budget_bound(sc.model.nominal), cycles=b.cycle[moving],
+                        calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving])
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

@@ -180,9 +180,11 @@ class TorqueScaleTest(Record):
     """The motor torque's scale K_T x current gain the verdict's model leaves, against its tolerance
     (diagnosis/scale.py)."""
 
-    gain: float = quantity("-", "total relative deviation of K_T x current gain the held-out torque wants "
-                           "(-0.08: 8 % low)", json="gain")
-    gain_std: float = quantity("-", "its standard error", json="gain_std")
+    gain: float = quantity("-", "total relative deviation of K_T x current gain the torque wants, fitted on "
+                           "the calibration blocks with the model's other deviations held: a lower bound "
+                           "(-0.08: at least 8 % low)", json="gain")
+    gain_std: float = quantity("-", "its standard error (the larger of least squares and cluster-robust by "
+                               "brake cycle)", json="gain_std")
     fitted: float = quantity("-", "the deviation the verdict's model took within the budget", json="fitted")
     bound: float = quantity("-", "the budget's bound on it; material: |gain| above it with 95 % confidence",
                             json="bound")

@@ -66,6 +66,7 @@ def test_a_loss_read_as_load_friction_turns_unexplained_and_says_why():
     sc = scorer(0.06, 0)
     model = sc.model
     r = rank(sc, build_catalog(NOM, float(model.speed.max()), float(model.force.max())))
+    assert [f.effect.name for f in r.selected] == ["load_friction"]
     assert r.verdict == "unexplained" and r.scale_decided, (r.verdict, r.scale)
     assert r.scale is not None and r.scale.gain < -0.02
     text = summary(r)
@@ -90,5 +91,7 @@ def test_the_report_carries_the_test():
 def test_too_few_rows_no_test():
     z, d = np.zeros(3), np.ones(3)
     one = np.array([True, False, False])
-    assert scale.torque_scale(z, d, 0.0, bound=0.02, calibration=one, heldout=~one) is None
-    assert scale.torque_scale(z, np.zeros(3), 0.0, bound=0.02, calibration=~one, heldout=~one) is None
+    cycles = np.arange(3)
+    assert scale.torque_scale(z, d, 0.0, bound=0.02, cycles=cycles, calibration=one, heldout=~one) is None
+    assert scale.torque_scale(z, np.zeros(3), 0.0, bound=0.02, cycles=cycles, calibration=~one,
+                              heldout=~one) is None
