@@ -1,6 +1,7 @@
 """The held-out test every diagnosis decision uses: does a correction fitted on calibration cycles lower
 the residual of the held-out ones more than noise would (:mod:`.ranking` for the effects, :mod:`.life`
-for the wear-level effects, :mod:`.openset` for a torque depending on the screw position)?
+for the wear-level effects, :mod:`.openset` for a torque depending on the screw position, :mod:`.scale`
+for the motor torque's scale)? And the calibration fits' cluster-robust covariance.
 """
 
 from __future__ import annotations
@@ -39,6 +40,26 @@ def improvement_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
     """One-sided p-value of "the correction lowers the held-out residual" (:func:`improvement_u`)."""
     u = improvement_u(z_before, z_after)
     return 1.0 if u is None else float(stats.norm.sf(u))
+
+
+def improvement_p_floored(z_before: np.ndarray, z_after: np.ndarray) -> float:
+    """:func:`improvement_p` with both residuals divided by the held-out RMS after the correction when it
+    exceeds 1: the test assumes unit variance, and a model error the correction leaves inflates it (never
+    scaled below 1)."""
+    norm = max(1.0, float(np.sqrt(np.mean(z_after * z_after))))
+    return improvement_p(z_before / norm, z_after / norm)
+
+
+def cluster_covariance(J: np.ndarray, z: np.ndarray, clusters: np.ndarray) -> np.ndarray:
+    """Cluster-robust (sandwich) covariance of the least-squares coefficients of ``z`` on the columns of
+    ``J`` with residual ``z`` at the fit: (J'J)^-1 (sum_c J_c' z_c z_c' J_c) (J'J)^-1, ``clusters`` the
+    cluster label of each row (the brake cycle: neighbouring blocks of one application share model error)."""
+    _, c = np.unique(clusters, return_inverse=True)
+    bread = np.linalg.pinv(J.T @ J)
+    scores = np.zeros((int(c.max()) + 1, J.shape[1]))  # per-cluster score vectors J_c' z_c
+    np.add.at(scores, c, J * z[:, None])
+    cov: np.ndarray = bread @ (scores.T @ scores) @ bread
+    return cov
 
 
 def tie_p(z_a: np.ndarray, z_b: np.ndarray) -> float:

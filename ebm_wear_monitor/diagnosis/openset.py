@@ -25,7 +25,7 @@ the twin within its tolerance when none is selected) is normalised by its block 
 regressors are divided by sigma too, so coefficients are in N m. The shape terms alone, then the shape
 terms with each harmonic, are fitted to z on the calibration blocks; the harmonic that lowers the
 calibration sum of z^2 most is judged on the held-out blocks (shape terms and harmonic as fitted on
-calibration) with the test of :func:`.heldout.improvement_p` at level alpha / K (conservative: k is
+calibration) with the test of :func:`.heldout.improvement_p_floored` at level alpha / K (conservative: k is
 chosen on calibration data only), both residuals divided by the held-out RMS after the fit when it
 exceeds 1 (the test assumes unit variance; a model error inflates it). The harmonic is *material*
 when the RMS of its contribution over the moving blocks exceeds, with 95 % confidence
@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ebm_wear_monitor.diagnosis import tolerance
-from ebm_wear_monitor.diagnosis.heldout import exceeds, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import exceeds, improvement_p_floored
 from ebm_wear_monitor.diagnosis.residuals import block_mean
 
 #: harmonics of the screw angle tried (per screw revolution)
@@ -66,7 +66,8 @@ class Periodic:
     rms: float  # RMS of its block contribution over the moving blocks [N m]: what materiality judges
     rms_std: float  # standard deviation of that RMS [N m]
     floor: float  # materiality bound of the torque channel [N m]
-    p_value: float  # held-out improvement test beyond the shape terms (:func:`.heldout.improvement_p`)
+    #: held-out improvement test beyond the shape terms (:func:`.heldout.improvement_p_floored`)
+    p_value: float
     sse_before: float  # held-out sum of z^2 on the moving blocks after the shape terms
     sse_after: float  # the same with the harmonic added
     sin_cos: tuple[float, float] = (0.0, 0.0)  # (a_k, b_k) of a_k sin(k q) + b_k cos(k q) [N m]
@@ -134,7 +135,6 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     rms_std = float(np.sqrt(max(float(grad @ cov[:2, :2] @ grad), 0.0)))
     zb = z[heldout] - S[heldout] @ gamma0  # held out, after the shape terms alone
     za = z[heldout] - A[heldout] @ coef  # ... and with the harmonic
-    scale = max(1.0, float(np.sqrt(np.mean(za * za))))  # the test assumes unit variance: not below it
     beyond = (z - S @ coef[2:]) * sigma
-    return Periodic(k, float(np.hypot(a, b)), rms, rms_std, floor, improvement_p(zb / scale, za / scale),
+    return Periodic(k, float(np.hypot(a, b)), rms, rms_std, floor, improvement_p_floored(zb, za),
                     float(np.sum(zb**2)), float(np.sum(za**2)), (a, b), beyond)

@@ -122,13 +122,14 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 from scipy import optimize, stats
 
 from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
-from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, cluster_covariance, improvement_p
 from ebm_wear_monitor.diagnosis.noise import median_scale, series_noise, signal_noise
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.play import LostMotion, lost_motion
@@ -616,11 +617,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
             best = res
     assert best is not None  # every effect has at least one start
     J, z = np.asarray(best.jac, dtype=float), np.asarray(best.fun, dtype=float)  # dense (``jac`` above)
-    _, cyc = np.unique(sc.row_cycles(mask, channels), return_inverse=True)
-    bread = np.linalg.pinv(J.T @ J)
-    scores = np.zeros((cyc.max() + 1, J.shape[1]))  # per-cycle score vectors J_c' z_c
-    np.add.at(scores, cyc, J * z[:, None])
-    cov = bread @ (scores.T @ scores) @ bread
+    cov = cluster_covariance(J, z, sc.row_cycles(mask, channels))
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
     return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
@@ -807,6 +804,18 @@ def tie_p(a: EffectFit, b: EffectFit) -> float:
     return heldout.tie_p(a.z_heldout, b.z_heldout)
 
 
+class OpenSetTest(Protocol):
+    """A test that turns a verdict into ``unexplained`` when it counts (:mod:`.scale`, :mod:`.stick`,
+    :mod:`.play`)."""
+
+    def counts(self, level: float) -> bool: ...
+
+
+def decides(test: OpenSetTest | None) -> bool:
+    """``test`` was made and counts at ``ALPHA``: it turns the verdict into ``unexplained``."""
+    return test is not None and test.counts(ALPHA)
+
+
 @dataclass(frozen=True)
 class OpenSet:
     """The open-set test of the verdict's model (:mod:`.openset`, :func:`open_set_verdict`)."""
@@ -848,17 +857,17 @@ class Ranking:
     @property
     def scale_decided(self) -> bool:
         """The scale test turned the verdict into ``unexplained`` (it runs only on another verdict)."""
-        return self.scale is not None and self.scale.counts(ALPHA)
+        return decides(self.scale)
 
     @property
     def rest_decided(self) -> bool:
         """The rest test turned the verdict into ``unexplained`` (it runs only on another verdict)."""
-        return self.rest is not None and self.rest.counts(ALPHA)
+        return decides(self.rest)
 
     @property
     def play_decided(self) -> bool:
         """The lost-motion test turned the verdict into ``unexplained`` (it runs only on ``effect``)."""
-        return self.play is not None and self.play.counts(ALPHA)
+        return decides(self.play)
 
     @property
     def top(self) -> EffectFit:
@@ -1053,14 +1062,14 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
     drive_scale = motor_scale(sc, verdict_model) if verdict != "unexplained" else None
-    if drive_scale is not None and drive_scale.counts(ALPHA):
+    if decides(drive_scale):
         verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
                        sc.split.heldout) if verdict != "unexplained" else None
-    if rest is not None and rest.counts(ALPHA):
+    if decides(rest):
         verdict = "unexplained"
     play = lost_motion(sc.model, verdict_model.aug, sc.split.heldout_cycles) if verdict == "effect" else None
-    if play is not None and play.counts(ALPHA):
+    if decides(play):
         verdict = "unexplained"
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0

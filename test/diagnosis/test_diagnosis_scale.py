@@ -14,12 +14,14 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
-from ebm_wear_monitor.diagnosis import scale, tolerance
+from ebm_wear_monitor.diagnosis import scale
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.openset import Periodic
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state, residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import ALPHA, OpenSet, Scorer, motor_scale, rank
+from ebm_wear_monitor.diagnosis.report import write_report
 from ebm_wear_monitor.params import load_unit
+from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
 from ebm_wear_monitor.twin.dynamics import actuator_model
 
 NOM = actuator_model(load_unit())
@@ -30,11 +32,6 @@ def scorer(loss: float, seed: int) -> Scorer:
     rec = synth(NOM, None, cycles=CYCLES, seed=seed, drive_gain=loss)
     sensors = Scorer.sensors(residual_model(rec, NOM))
     return sensors.scaled(sensors.noise_scale())
-
-
-def test_the_bound_is_the_budgets_entry():
-    assert scale.budget_bound(NOM) == 0.02
-    assert tolerance.BUDGET[scale.entry_index()].name == "torque_constant"
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -80,12 +77,38 @@ def test_a_loss_read_as_load_friction_turns_unexplained_and_says_why():
         assert ("35 mN m RMS" in text) is named
 
 
-def test_the_report_carries_the_test():
-    rec = synth(NOM, None, cycles=CYCLES, seed=0, drive_gain=0.06)
-    res = diagnose_with_state(rec, load_unit())[0]
-    assert res.torque_scale is not None and res.torque_scale.decided
-    js = res.to_json_dict()["torque_scale"]
-    assert js["bound"] == 0.02 and js["gain"] < -0.02 and js["p_value"] < ALPHA
+def test_the_report_carries_the_test(tmp_path):
+    loss = 0.06
+    rec = synth(NOM, None, cycles=CYCLES, seed=0, drive_gain=loss)
+    res, sc, ranking = diagnose_with_state(rec, load_unit())
+    t = res.torque_scale
+    assert t is not None and t.decided
+    assert -loss - 3.0 * t.gain_std < t.gain < -0.02 and t.p_value < ALPHA  # between the loss and the bound
+    page = write_report(tmp_path, [(UnitDiagnosis(res, {}, {}), sc, ranking)]).joinpath("index.html")
+    html = " ".join(page.read_text(encoding="utf-8").split())
+    assert f"the torque wants at least {100.0 * t.gain:+.1f} ± {100.0 * t.gain_std:.1f} %" in html
+    assert "every term of the torque balance is scaled, which no known effect does" in html
+
+
+def test_the_error_is_cluster_robust():
+    # one offset a_k per brake cycle, the same on all its m rows, and d = 1: the fit takes the mean, and the
+    # residuals are perfectly correlated within a cycle. Least squares (floored at unit variance) would
+    # give sqrt(s^2 / N); the cluster-robust error is sqrt(sum_k (m (a_k - mean))^2) / N, closed form
+    rng = np.random.default_rng(3)
+    k, m = 8, 25
+    a = rng.normal(0.0, 5.0, k)
+    z, cycles, d = np.repeat(a, m), np.repeat(np.arange(k), m), np.ones(k * m)
+    calibration = cycles % 2 == 0
+    res = scale.torque_scale(z, d, 0.0, bound=0.02, cycles=cycles, calibration=calibration,
+                             heldout=~calibration)
+    assert res is not None
+    ac = a[::2]
+    n = ac.size * m
+    robust = np.sqrt(np.sum((m * (ac - ac.mean())) ** 2)) / n
+    least_squares = np.sqrt(max(1.0, np.sum((z[calibration] - ac.mean()) ** 2) / (n - 1)) / n)
+    assert robust > 2.0 * least_squares
+    assert res.gain == pytest.approx(-0.02 * ac.mean())  # c = -d'z / d'd, g = (t + c) x bound
+    assert res.gain_std == pytest.approx(0.02 * robust)
 
 
 def test_too_few_rows_no_test():
