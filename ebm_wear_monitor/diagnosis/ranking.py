@@ -10,8 +10,9 @@ cycle never contributes to any fit.  At least four cycles are needed.
 the load, the force-sensor skew and lag (:mod:`.residuals`) are fitted first on the
 calibration cycles with the nominal twin (the "before" model, :attr:`Scorer.base`),
 each channel on its own rows, and refitted with every effect in the channels the
-effect acts in; being in both models they are not counted in the penalty.  So an
-effect is declared only when it explains the data better than the nominal twin
+effect acts in (one that also moves a channel the effect does not act in keeps its value: the force
+reading's skew and lag time the load torque too, :func:`fit`); being in both models they are not
+counted in the penalty.  So an effect is declared only when it explains the data better than the nominal twin
 under its *best* admissible acquisition.
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
@@ -75,11 +76,16 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 (b), (d) and (e), every other effect is fitted *together* with it and *on top of* it (the first
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
-its addition again passes (a) against the first alone (held out, at 0.05 / (K - 1)), (b),
+its addition again passes (a) against the first alone, refitted with the candidate's own budget entries
+held at zero (held out, at 0.05 / (K - 1); nested as the first's test is, :func:`without_own`), (b),
 (d) and (e).  The first is then chosen again given the second, by the same rule (the floating
 step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
 jointly) and kept when it passes the same tests against them (at 0.05 / (K - 2)).
-``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
+When the selection leaves the material model error more than half open (it fails (c), or nothing
+was selected), the best subset of size two is searched (:func:`best_pair`): every pair fitted jointly
+from W, the best-scoring one passing (a) against W with both effects' own entries held at zero (at 0.05
+over the number of pairs), (b) and (d) for each effect as fitted in the pair, (e) and (c) becomes the
+selection.  ``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
 changes the twin's prediction most (:func:`contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
@@ -121,6 +127,7 @@ effect's at p < 0.05 (:func:`tie_p`) is reported as tied, with the operating ran
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -141,6 +148,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     ResidualModel,
     clamp_spring,
     kinetic_friction,
+    moves,
 )
 from ebm_wear_monitor.diagnosis.scale import TorqueScale, budget_bound, entry_index, torque_scale
 from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
@@ -548,13 +556,18 @@ def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, .
 
 
 def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = (), *,
-        mask: np.ndarray | None = None, only_effect: bool = False) -> Fit:
+        mask: np.ndarray | None = None, only_effect: bool = False, shared: bool = False) -> Fit:
     """Fit ``effect`` with its channels' nuisances and the free tolerances on the calibration cycles.
 
     ``mask`` fits on other blocks; ``only_effect`` keeps the nuisances and tolerances of ``start``.
+    A nuisance that also moves a channel not fitted keeps the value of ``start``, as a budget entry does
+    (:func:`_free_tolerances`): the force reading's skew and lag time the load torque too, and refitted on
+    the force rows alone they would buy a force-channel effect's fit with an unseen torque error.
+    ``shared`` fits them all the same (a first search of one channel's nuisances, :func:`fit_base`).
     """
     channels = effect.channels
-    specs = [] if only_effect else [n for ch in channels for n in sc.nuisances[ch]]
+    specs = [] if only_effect else [n for ch in channels for n in sc.nuisances[ch]
+                                    if shared or set(moves(n.name)) <= set(channels)]
     k, m = effect.k, len(specs)
     names = [n.name for n in specs]
     mask = sc.split.calibration if mask is None else mask
@@ -641,7 +654,8 @@ def fit_base(sc: Scorer, start: Model | None = None) -> tuple[Model, dict[str, f
             specs = sc.nuisances[ch]
             grid = [dict(zip([n.name for n in specs], combo, strict=True))
                     for combo in np.array(np.meshgrid(*[n.starts for n in specs])).reshape(len(specs), -1).T]
-            start = fit(sc, dataclasses.replace(NUISANCE_ONLY, channels=(ch,)), start, tuple(grid)).model
+            start = fit(sc, dataclasses.replace(NUISANCE_ONLY, channels=(ch,)), start, tuple(grid),
+                        shared=True).model
     f = fit(sc, NUISANCE_ONLY, start)
     return f.model, f.nuisance_std
 
@@ -774,6 +788,25 @@ def base_without_own(sc: Scorer, effect: Effect) -> Model:
     if key not in cache:
         probe = dataclasses.replace(NUISANCE_ONLY, name=effect.name)
         cache[key] = fit(sc, probe, sc.base).model
+    return cache[key]
+
+
+def without_own(sc: Scorer, current: EffectFit, added: Effect) -> Model:
+    """The model ``current`` with the budget entries of ``added`` held at zero, refitted over both's channels:
+    the model the addition extends by its parameters (nested, as :func:`base_without_own` is for the first
+    effect).  Tested against ``current`` itself, whose tolerances already mimic ``added`` up to its floor, a
+    real second effect would look weaker than a first one of the same size."""
+    names = current.effect.name.split("+")
+    own = frozenset(tolerance.OWN.get(added.name, ())) - {n for e in names for n in tolerance.OWN.get(e, ())}
+    if not own:
+        return current.model
+    cache = sc.cache.setdefault("without_own", {})
+    key = (current.effect.name, tuple(current.theta), tuple(sorted(own)))
+    if key not in cache:
+        channels = tuple(ch for ch in CHANNELS if ch in current.effect.channels or ch in added.channels)
+        probe = dataclasses.replace(current.effect, name="+".join((*names, added.name)), channels=channels,
+                                    starts=(tuple(current.theta),))
+        cache[key] = fit(sc, probe, current.model).model
     return cache[key]
 
 
@@ -1046,6 +1079,11 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
 
     selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before, w_share=share)
+    if material and (joint is None or not closes_half(joint)):
+        pair = best_pair(sc, fits, s_before, gap_before, w_share=share, closes=closes_half)
+        if pair is not None:
+            joint, selected = pair
+            candidates.append(joint)
     if joint is not None:
         verdict = "effect" if closes_half(joint) else "unexplained"
     elif (material and not any(closes_half(f) for f in candidates)) or any(f.drifting for f in fits):
@@ -1139,6 +1177,48 @@ def open_set_verdict(verdict: str, periodic: Periodic | None, share: float | Non
 MAX_EFFECTS = 3
 
 
+def _part(f: EffectFit, theta: np.ndarray, stderr: np.ndarray) -> EffectFit:
+    """The entry of effect ``f`` as fitted within a model of several effects: its parameters and their
+    errors from that fit, its size and size error from them (its model and held-out scores stay those of
+    ``f`` alone)."""
+    return dataclasses.replace(f, theta=theta, stderr=stderr, size=float(f.effect.size(theta)),
+                               size_std=_size_std(f.effect, theta, stderr))
+
+
+def best_pair(sc: Scorer, fits: list[EffectFit], s_before: np.ndarray, gap_before: float, *,
+              w_share: dict[str, float], closes: Callable[[EffectFit], bool]
+              ) -> tuple[EffectFit, list[EffectFit]] | None:
+    """Best subset of size two, for when forward selection leaves the material model error open: every
+    pair fitted jointly from the twin within its tolerance (:func:`evaluate`), the best-scoring one that
+    passes (a) against W with both effects' own budget entries held at zero (at ALPHA over the number of
+    pairs), (b) and (d) for each of its effects as fitted in the pair, (e) against W, and (c) (``closes``).
+
+    Greedy selection needs its first effect to stand alone.  Two effects whose signatures overlap do not:
+    fitted alone, each takes part of the other's signature and the misfit it leaves makes its size
+    uncertain (a clearance growth beside a force-sensor gain: the contact point moves with both), so
+    neither is material while the pair, fitted together, is sharp.
+
+    Returns (the pair's fit, its two effects' entries) or None.
+    """
+    pairs = [(a, b) for i, a in enumerate(fits) for b in fits[i + 1:]]
+    level = ALPHA / max(len(pairs), 1)
+    best: tuple[EffectFit, list[EffectFit]] | None = None
+    for a, b in pairs:
+        q = evaluate(sc, combine(a.effect, b.effect), s_before, gap_before)
+        if not (q.p_value < level and q.score > 0.0 and closes(q) and not _worsens(w_share, q.share)) \
+                or (best is not None and q.score <= best[0].score):
+            continue
+        k = a.effect.k
+        parts = [_part(a, q.theta[:k], q.stderr[:k]), _part(b, q.theta[k:], q.stderr[k:])]
+        if all(f.material for f in parts):
+            for f in parts:
+                f.drift = drift_test(sc, f)
+                f.contribution = contribution(sc, f.effect, f.theta)
+            if not any(f.drifting for f in parts):
+                best = (q, parts)
+    return best
+
+
 def _pairs(sc: Scorer, lead: EffectFit, f: EffectFit, s_before: np.ndarray, gap_before: float, *,
            nested: bool) -> list[EffectFit]:
     """The pairs of ``lead`` with ``f`` to try: fitted jointly (when ``f`` alone improves on the twin)
@@ -1166,9 +1246,9 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
     for f, fitted in options:
         together = max(fitted, key=lambda q: q.score)
         theta, se = together.theta[k0:], together.stderr[k0:]
-        added = dataclasses.replace(f, theta=theta, stderr=se, size=float(f.effect.size(theta)),
-                                    size_std=_size_std(f.effect, theta, se))
-        p = together.p_value = improvement_p(current.z_heldout, together.z_heldout)
+        added = _part(f, theta, se)
+        null = sc.z(without_own(sc, current, f.effect), sc.split.heldout)
+        p = together.p_value = improvement_p(null, together.z_heldout)
         ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score \
             and not _worsens(current.share, together.share)
         if ok:
@@ -1237,12 +1317,11 @@ def _rechoose_first(sc: Scorer, fits: list[EffectFit], current: EffectFit, selec
         return current, selected
     together, added = step
     k = alone.effect.k
-    kept = dataclasses.replace(second, theta=together.theta[:k], stderr=together.stderr[:k],
-                               size=float(alone.effect.size(together.theta[:k])),
-                               size_std=_size_std(alone.effect, together.theta[:k], together.stderr[:k]))
+    kept = _part(second, together.theta[:k], together.stderr[:k])
     first = next(f for f in fits if f.effect.name == added.effect.name)
     earns = kept.material and together.score > first.score and not _worsens(first.share, together.share) \
-        and improvement_p(first.z_heldout, together.z_heldout) < ALPHA / max(len(fits) - 1, 1)
+        and improvement_p(sc.z(without_own(sc, first, alone.effect), sc.split.heldout),
+                          together.z_heldout) < ALPHA / max(len(fits) - 1, 1)
     if not earns or _worsens(current.share, together.share):
         return current, selected
     kept.contribution = contribution(sc, alone.effect, kept.theta)

@@ -150,6 +150,13 @@ TORQUE_INPUTS = (*TORQUE_FIELDS, "current_shift", "current_offset", "force_skew"
 FORCE_INPUTS = (*FORCE_FIELDS, "force_skew", "force_lag", "stiffness_gain")
 
 
+def moves(field: str) -> tuple[str, ...]:
+    """The channels whose residual the :class:`Augment` field ``field`` changes (:data:`TORQUE_INPUTS`,
+    :data:`FORCE_INPUTS`)."""
+    inputs = (TORQUE_INPUTS, FORCE_INPUTS)
+    return tuple(ch for ch, read in zip(CHANNELS, inputs, strict=True) if field in read)
+
+
 def nuisances_of(aug: Augment) -> dict[str, float]:
     """The nuisance values of ``aug`` by name."""
     return {f.name: getattr(aug, f.name) for f in fields(aug) if f.name in NUISANCE_UNITS}

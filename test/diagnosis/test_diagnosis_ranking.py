@@ -287,3 +287,54 @@ def test_the_first_effect_is_chosen_again_given_the_second(aug, seed, monkeypatc
                         lambda sc, fits, current, selected, **kw: (current, selected))
     greedy = rank(sc, catalog(model))
     assert {f.effect.name for f in greedy.selected} != {"load_friction", "stribeck"}
+
+
+def test_a_force_channel_effect_leaves_the_torque_channel_as_the_twin_within_its_tolerance_fitted_it():
+    """The force reading's skew and lag time the load torque too (004 eq. 1): a force-channel effect fitted
+    on the force rows alone keeps them, so its fit cannot buy a force fit with an unseen torque error."""
+    sc, model = scorer(Augment(clearance=3e-5), seed=3)
+    f = fit(sc, catalog(model)["clearance_growth"], sc.base)
+    assert f.theta[0] == pytest.approx(3e-5, rel=0.1)
+    assert (f.model.aug.force_skew, f.model.aug.force_lag) == (sc.base.aug.force_skew, sc.base.aug.force_lag)
+    every = np.ones(model.blocks.size, bool)
+    np.testing.assert_array_equal(sc.z(f.model, every, ("torque",)), sc.z(sc.base, every, ("torque",)))
+
+
+def test_an_addition_is_tested_against_the_model_with_its_own_budget_entries_held_at_zero():
+    """The second effect's test is nested like the first's: against the selected model refitted with the
+    added effect's own budget entries at zero, not against a model whose tolerances already mimic it."""
+    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse, without_own
+
+    sc, model = scorer(Augment(stiffness_quad=2e10, dB=1.5e-3), seed=8, cycles=12)
+    cat = catalog(model)
+    first = evaluate(sc, cat["stiffness_nonlinearity"], nominal_sse(sc), sc.gap(sc.base))
+    null = without_own(sc, first, cat["viscous_friction"])
+    viscous = [t.name for t in tolerance.BUDGET].index("viscous")
+    assert null.t[viscous] == 0.0 and first.model.t[viscous] != 0.0
+    assert null.aug.stiffness_quad == pytest.approx(first.model.aug.stiffness_quad, rel=0.05)
+    assert without_own(sc, first, cat["stribeck"]) is first.model  # no budget entry of its own
+
+
+@pytest.mark.parametrize("seed", [5, 6])
+def test_the_best_pair_fits_two_effects_together(seed):
+    """Best subset of size two (``best_pair``): a clearance growth and a force-sensor gain, fitted
+    together from the twin within its tolerance, return both their parameters; on a healthy recording
+    no pair passes."""
+    from ebm_wear_monitor.diagnosis.ranking import best_pair, nominal_sse, ranked_fits
+
+    sc, model = scorer(Augment(clearance=3e-5, force_gain=0.06), seed=seed, cycles=12)
+    fits = ranked_fits(sc, catalog(model))
+    found = best_pair(sc, fits, nominal_sse(sc), sc.gap(sc.base), w_share=sc.unexplained_share(sc.base),
+                      closes=lambda f: True)
+    assert found is not None
+    pair, parts = found
+    assert pair.effect.name in ("clearance_growth+force_sensor_bias", "force_sensor_bias+clearance_growth")
+    assert {f.effect.name for f in parts} == {"clearance_growth", "force_sensor_bias"}
+    truth = {"clearance_growth": 3e-5, "force_sensor_bias": 0.06}
+    for f in parts:
+        true = truth[f.effect.name]
+        assert abs(f.theta[0] - true) <= max(4.0 * f.stderr[0], 0.05 * true), (f.effect.name, f.theta)
+    healthy, hmodel = scorer(None, seed=seed, cycles=12)
+    hfits = ranked_fits(healthy, catalog(hmodel))
+    assert best_pair(healthy, hfits, nominal_sse(healthy), healthy.gap(healthy.base),
+                     w_share=healthy.unexplained_share(healthy.base), closes=lambda f: True) is None
