@@ -10,9 +10,9 @@ cycle never contributes to any fit.  At least four cycles are needed.
 the load, the force-sensor skew and lag (:mod:`.residuals`) are fitted first on the
 calibration cycles with the nominal twin (the "before" model, :attr:`Scorer.base`),
 each channel on its own rows, and refitted with every effect in the channels the
-effect acts in (one that also moves a channel the effect does not act in keeps its value: the force
-reading's skew and lag time the load torque too, :func:`fit`); being in both models they are not
-counted in the penalty.  So an effect is declared only when it explains the data better than the nominal twin
+effect acts in, each on every row it moves (the force reading's skew and lag time the load torque
+too, :func:`fit`); being in both models they are not counted in the penalty.  So an effect is
+declared only when it explains the data better than the nominal twin
 under its *best* admissible acquisition.
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
@@ -77,9 +77,11 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
 its addition again passes (a) against the first alone, refitted with the candidate's own budget entries
-held at zero (held out, at 0.05 / (K - 1); nested as the first's test is, :func:`without_own`), (b),
-(d) and (e).  The first is then chosen again given the second, by the same rule (the floating
-step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
+held at zero (held out, at 0.05 over the number of fits tried, up to two for each of the K - 1
+candidates; nested as the first's test is, :func:`without_own`), (b), (d) and (e); of a candidate's
+two fits the best-scoring one that passes counts.  The first is then chosen again given the second,
+by the same rule, and again given the new partner while each swap raises the held-out score (the
+floating step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
 jointly) and kept when it passes the same tests against them (at 0.05 / (K - 2)).
 When the selection leaves the material model error more than half open (it fails (c), or nothing
 was selected), the best subset of size two is searched (:func:`best_pair`): every pair fitted jointly
@@ -556,22 +558,25 @@ def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, .
 
 
 def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = (), *,
-        mask: np.ndarray | None = None, only_effect: bool = False, shared: bool = False) -> Fit:
+        mask: np.ndarray | None = None, only_effect: bool = False, search: bool = False) -> Fit:
     """Fit ``effect`` with its channels' nuisances and the free tolerances on the calibration cycles.
 
     ``mask`` fits on other blocks; ``only_effect`` keeps the nuisances and tolerances of ``start``.
-    A nuisance that also moves a channel not fitted keeps the value of ``start``, as a budget entry does
-    (:func:`_free_tolerances`): the force reading's skew and lag time the load torque too, and refitted on
-    the force rows alone they would buy a force-channel effect's fit with an unseen torque error.
-    ``shared`` fits them all the same (a first search of one channel's nuisances, :func:`fit_base`).
+    A nuisance is fitted on every row it moves (:func:`.residuals.moves`): the force reading's skew and
+    lag time the load torque too, so a force-channel effect refits them on the torque rows as well, with
+    the torque channel's tolerances held as ``start`` has them.  Refitted on the force rows alone they
+    would buy the force fit with a torque error no score of the fit sees; held, they would keep what
+    the twin within its tolerance made them absorb of the effect.  ``search``: on the effect's channels'
+    rows only (a first search of one channel's nuisances, :func:`fit_base`).
     """
     channels = effect.channels
-    specs = [] if only_effect else [n for ch in channels for n in sc.nuisances[ch]
-                                    if shared or set(moves(n.name)) <= set(channels)]
+    specs = [] if only_effect else [n for ch in channels for n in sc.nuisances[ch]]
+    seen = channels if search else tuple(ch for ch in CHANNELS if ch in channels
+                                         or any(ch in moves(n.name) for n in specs))
     k, m = effect.k, len(specs)
     names = [n.name for n in specs]
     mask = sc.split.calibration if mask is None else mask
-    rows = sc.rows(mask, channels)
+    rows = sc.rows(mask, seen)
     free, own = _free_tolerances(sc, effect.name.split("+"), channels)
     if only_effect:
         free, own = np.zeros_like(free), np.zeros_like(own)
@@ -597,7 +602,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
         key = u[:k + m].tobytes()
         if key not in cache:
             cache.clear()
-            cache[key] = sc.z_raw(to_model(u).aug, mask, channels) + fixed_part
+            cache[key] = sc.z_raw(to_model(u).aug, mask, seen) + fixed_part
         return cache[key]
 
     def fun(u: np.ndarray) -> np.ndarray:  # u = parameters / scale keeps the solver well conditioned
@@ -612,7 +617,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
                 h = -h
             v = u.copy()
             v[i] += h
-            cols.append((sc.z_raw(to_model(v).aug, mask, channels) + fixed_part - z0) / h)
+            cols.append((sc.z_raw(to_model(v).aug, mask, seen) + fixed_part - z0) / h)
         return np.column_stack([*cols, D]) if cols else D
 
     here = [getattr(start.aug, nm) for nm in names]
@@ -630,7 +635,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
             best = res
     assert best is not None  # every effect has at least one start
     J, z = np.asarray(best.jac, dtype=float), np.asarray(best.fun, dtype=float)  # dense (``jac`` above)
-    cov = cluster_covariance(J, z, sc.row_cycles(mask, channels))
+    cov = cluster_covariance(J, z, sc.row_cycles(mask, seen))
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
     return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
@@ -655,7 +660,7 @@ def fit_base(sc: Scorer, start: Model | None = None) -> tuple[Model, dict[str, f
             grid = [dict(zip([n.name for n in specs], combo, strict=True))
                     for combo in np.array(np.meshgrid(*[n.starts for n in specs])).reshape(len(specs), -1).T]
             start = fit(sc, dataclasses.replace(NUISANCE_ONLY, channels=(ch,)), start, tuple(grid),
-                        shared=True).model
+                        search=True).model
     f = fit(sc, NUISANCE_ONLY, start)
     return f.model, f.nuisance_std
 
@@ -1234,29 +1239,33 @@ def _pairs(sc: Scorer, lead: EffectFit, f: EffectFit, s_before: np.ndarray, gap_
 
 def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, list[EffectFit]]]
               ) -> tuple[EffectFit, EffectFit] | None:
-    """The best supported addition to ``current``: per candidate effect the better-scoring of its fits
-    with ``current`` (``options``: (single fit, its fits together with ``current``)); kept when it passes
-    (a) against ``current`` (held out, at ALPHA over the number of candidate effects), (b), (d)
-    and (e).
+    """The best supported addition to ``current``: per candidate effect the best-scoring of its fits with
+    ``current`` (``options``: (single fit, its fits together with ``current``)) that passes (a) against
+    ``current`` with the candidate's own budget entries held at zero (:func:`without_own`; held out, at
+    ALPHA over the number of fits tried, Bonferroni over both fits of every candidate), (b), (d) and
+    (e).  The joint fit frees the budget entries that move both channels, and a candidate's parameter
+    can be nearly collinear with them there and sharp on top of ``current``: the two are two
+    parametrisations of one hypothesis, both paid for in the level.
 
     Returns (the fit of the model with the addition, the added effect's entry) or None.
     """
     k0 = current.effect.k
+    level = ALPHA / max(sum(len(fitted) for _, fitted in options), 1)
     best: tuple[EffectFit, EffectFit] | None = None
     for f, fitted in options:
-        together = max(fitted, key=lambda q: q.score)
-        theta, se = together.theta[k0:], together.stderr[k0:]
-        added = _part(f, theta, se)
         null = sc.z(without_own(sc, current, f.effect), sc.split.heldout)
-        p = together.p_value = improvement_p(null, together.z_heldout)
-        ok = added.material and p < ALPHA / max(len(options), 1) and together.score > current.score \
-            and not _worsens(current.share, together.share)
-        if ok:
+        for together in sorted(fitted, key=lambda q: -q.score):
+            theta, se = together.theta[k0:], together.stderr[k0:]
+            added = _part(f, theta, se)
+            p = together.p_value = improvement_p(null, together.z_heldout)
+            if not (added.material and p < level and together.score > current.score
+                    and not _worsens(current.share, together.share)):
+                continue
             added.drift = drift_test(sc, added)
-            ok = not added.drifting
-        if ok and (best is None or together.score > best[0].score):
-            added.contribution = contribution(sc, f.effect, theta)
-            best = (together, added)
+            if not added.drifting and (best is None or together.score > best[0].score):
+                added.contribution = contribution(sc, f.effect, theta)
+                best = (together, added)
+            break
     return best
 
 
@@ -1265,7 +1274,8 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
                     ) -> tuple[list[EffectFit], EffectFit | None, list[EffectFit]]:
     """Best supported single effect, then, up to ``MAX_EFFECTS``, the best supported next one
     (:func:`_addition`): the second fitted together with the first or on top of it (:func:`_pairs`),
-    the first then chosen again given the second (:func:`_rechoose_first`), a third on top of the two.
+    the first then chosen again given the second, and again while a swap raises the held-out score
+    (:func:`_rechoose_first`), a third on top of the two.
 
     Also returns every single effect and every pair with the lead effect (the supported one, else the
     best-scoring): the candidates of the ``unexplained`` test (does any effect, or pair, close half of
@@ -1286,9 +1296,11 @@ def _forward_select(sc: Scorer, fits: list[EffectFit], level: float, s_before: n
             break
         current = step[0]
         selected.append(step[1])
-        if len(selected) == 2:
-            current, selected = _rechoose_first(sc, fits, current, selected, s_before=s_before,
-                                                gap_before=gap_before)
+        while len(selected) == 2:  # float while it helps: each swap raises the held-out score
+            floated = _rechoose_first(sc, fits, current, selected, s_before=s_before, gap_before=gap_before)
+            if floated[1] is selected:
+                break
+            current, selected = floated
         names = {e.effect.name for e in selected}
         options = [(f, [extend(sc, current, f.effect, s_before, gap_before)])
                    for f in fits if f.effect.name not in names] if len(selected) < MAX_EFFECTS else []

@@ -289,15 +289,22 @@ def test_the_first_effect_is_chosen_again_given_the_second(aug, seed, monkeypatc
     assert {f.effect.name for f in greedy.selected} != {"load_friction", "stribeck"}
 
 
-def test_a_force_channel_effect_leaves_the_torque_channel_as_the_twin_within_its_tolerance_fitted_it():
-    """The force reading's skew and lag time the load torque too (004 eq. 1): a force-channel effect fitted
-    on the force rows alone keeps them, so its fit cannot buy a force fit with an unseen torque error."""
+def test_a_force_channel_effect_fits_the_nuisances_that_time_the_load_torque_on_the_torque_rows_too():
+    """The force reading's skew and lag time the load torque too (004 eq. 1): a force-channel effect refits
+    them on every row they move, torque rows included, so its fit cannot buy a force fit with an unseen
+    torque error (test (e) against the twin within its tolerance holds)."""
+    from ebm_wear_monitor.diagnosis.ranking import _worsens, evaluate, nominal_sse
+    from ebm_wear_monitor.diagnosis.residuals import CHANNELS
+
     sc, model = scorer(Augment(clearance=3e-5), seed=3)
-    f = fit(sc, catalog(model)["clearance_growth"], sc.base)
+    clearance = catalog(model)["clearance_growth"]
+    f = fit(sc, clearance, sc.base)
     assert f.theta[0] == pytest.approx(3e-5, rel=0.1)
-    assert (f.model.aug.force_skew, f.model.aug.force_lag) == (sc.base.aug.force_skew, sc.base.aug.force_lag)
-    every = np.ones(model.blocks.size, bool)
-    np.testing.assert_array_equal(sc.z(f.model, every, ("torque",)), sc.z(sc.base, every, ("torque",)))
+    assert f.z.size == sc.rows(sc.split.calibration, CHANNELS).size  # torque and force rows
+    assert f.z.size > fit(sc, clearance, sc.base, search=True).z.size  # a search: its own rows only
+    ef = evaluate(sc, clearance, nominal_sse(sc), sc.gap(sc.base))
+    assert not _worsens(sc.unexplained_share(sc.base), ef.share)
+    assert ef.share["torque"] <= sc.unexplained_share(sc.base)["torque"] + 1e-3
 
 
 def test_an_addition_is_tested_against_the_model_with_its_own_budget_entries_held_at_zero():

@@ -328,9 +328,11 @@ def _multirate_cases() -> list[Case]:
 
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c"),
-         "full_d": (16000, 17000, "none_d"), "full_e": (21000, 22000, "none_e")}
+         "full_d": (16000, 17000, "none_d"), "full_e": (21000, 22000, "none_e"),
+         "full_f": (24000, 25000, "none_f")}
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
-OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000}
+OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
+                 "outside_e": 26000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -349,7 +351,9 @@ def case_set(name: str) -> list[Case]:
     selection had been written from a miss on ``full_b``; ``full_d``: a fourth draw (seeds 16000 and
     17000), first run after the motor-torque scale test (``diagnosis/scale.py``); ``full_e`` (seeds 21000
     and 22000), first run after the best pair of two (``ranking.best_pair``) had been written from the
-    pair misses on ``full_c`` and ``full_d``. ``life``: 12 long
+    pair misses on ``full_c`` and ``full_d``; ``full_f`` (seeds 24000 and 25000), first run after the
+    nuisances were refitted on every row they move and the floating step repeated, changes made after
+    ``full_e``'s misses had been looked at. ``life``: 12 long
     recordings (150-240 applications) of healthy units whose true clearance follows a schedule (``LIFE``).
     ``outside``: 40 recordings of the effects outside the catalog (10 per effect, forms alternating),
     a fourth draw for the open-set target, first run after the drift test had been rewritten from a
@@ -357,7 +361,8 @@ def case_set(name: str) -> list[Case]:
     diagnosis set, first run after the lost-motion test (``diagnosis/play.py``) had been written from
     the motor-side backlash misses of the other five; ``outside_c`` (seeds from 15000): first run after
     the motor-torque scale test had been written from the torque-constant losses missed on ``outside``
-    and ``outside_b``; ``outside_d`` (seeds from 23000): first run after the best pair of two.
+    and ``outside_b``; ``outside_d`` (seeds from 23000): first run after the best pair of two;
+    ``outside_e`` (seeds from 26000): first run with ``full_f``.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
