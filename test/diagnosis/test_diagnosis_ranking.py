@@ -345,3 +345,24 @@ def test_the_best_pair_fits_two_effects_together(seed):
     hfits = ranked_fits(healthy, catalog(hmodel))
     assert best_pair(healthy, hfits, nominal_sse(healthy), healthy.gap(healthy.base),
                      w_share=healthy.unexplained_share(healthy.base), closes=lambda f: True) is None
+
+
+def test_rank_takes_the_best_pair_where_greedy_selection_leaves_the_material_error_open(monkeypatch):
+    """The route in ``rank``: with the greedy selection made to find nothing, a clearance growth and a
+    force-sensor gain are still named, both, by the best pair of two; where the twin within its tolerance
+    leaves no material error (a healthy recording) the pair search is not made and the verdict is none."""
+    from ebm_wear_monitor.diagnosis import ranking
+
+    def greedy_finds_nothing(sc, fits, level, s_before, gap_before, *, w_share):
+        return [], None, list(fits)
+
+    monkeypatch.setattr(ranking, "_forward_select", greedy_finds_nothing)
+    sc, model = scorer(Augment(clearance=3e-5, force_gain=0.06), seed=5, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect"
+    assert {f.effect.name for f in r.selected} == {"clearance_growth", "force_sensor_bias"}
+    assert r.joint is not None and r.joint.effect.name.count("+") == 1
+    searched = []
+    monkeypatch.setattr(ranking, "best_pair", lambda *a, **kw: searched.append(1))
+    healthy, hmodel = scorer(None, seed=5, cycles=12)
+    assert rank(healthy, catalog(hmodel)).verdict == "none" and not searched
