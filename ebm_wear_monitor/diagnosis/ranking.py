@@ -76,19 +76,21 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 (b), (d) and (e), every other effect is fitted *together* with it and *on top of* it (the first
 as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
-its addition again passes (a) against the first alone, refitted with the candidate's own budget entries
-held at zero (held out, at 0.05 over the number of fits tried, up to two for each of the K - 1
-candidates; nested as the first's test is, :func:`without_own`), (b), (d) and (e); of a candidate's
-two fits the best-scoring one that passes counts.  The first is then chosen again given the second,
+its addition again passes (a) against the first alone and against the first refitted with the
+candidate's own budget entries held at zero, the larger p-value (held out, at 0.05 over the number of
+fits tried, up to two for each of the K - 1 candidates; :func:`addition_p`), (b), (d) (refitted within
+the model with the addition) and (e); of a candidate's two fits the best-scoring one that passes
+(a), (b) and (e) counts.  The first is then chosen again given the second,
 by the same rule, and again given the new partner while each swap raises the held-out score (the
 floating step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
 jointly) and kept when it passes the same tests against them (at 0.05 / (K - 2)).
 When the selection leaves the material model error more than half open (it fails (c), or nothing
 was selected), the best subset of size two is searched (:func:`best_pair`): every pair fitted jointly
 from W, the best-scoring one passing (a) against W with both effects' own entries held at zero (at 0.05
-over the number of pairs), (b) and (d) for each effect as fitted in the pair, (e) and (c) becomes the
-selection.  ``effects`` lists the selected ones; the verdict's ``effect`` is the largest: the one that
-changes the twin's prediction most (:func:`contribution`).
+over the number of pairs), each effect's (a) given the other (at half that), (b) for each effect as
+fitted in the pair, (d) for each refitted within it, (e) and (c) becomes the selection; not where a
+single effect drifts.  ``effects`` lists the selected ones; the verdict's ``effect`` is the largest:
+the one that changes the twin's prediction most (:func:`contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
