@@ -174,9 +174,13 @@ def summary(ranking: Ranking) -> str:
             return (f"The twin, even within its tolerance, misses {torque}, above 2 % of the motor torque "
                     f"({gap}); no known effect makes such a torque: an effect outside the catalog is likely.")
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-        return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
-                f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
-                "the catalog is likely.")
+        if o.share < SHRINK_NEEDED:
+            return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
+                    f"explainable error; the rest is {torque}, which no known effect makes: an effect "
+                    "outside the catalog is likely.")
+        return (f"The best known effects ({named}) close {100.0 * o.share:.0f} % of the explainable "
+                f"error but leave {torque}, above 2 % of the motor torque, which no known effect makes: "
+                "an effect outside the catalog is likely, the named ones may only absorb part of it.")
     s = ranking.scale
     if s is not None and ranking.scale_decided:
         size = f"{100.0 * s.gain:+.1f} % ± {100.0 * s.gain_std:.1f} %"

@@ -105,9 +105,11 @@ def _periodic(p_value: float, rms: float) -> Periodic:
 
 @pytest.mark.parametrize(("verdict", "p_value", "rms", "share", "expected"), [
     ("effect", 1e-9, 0.1, 0.3, "unexplained"),  # significant, effects close less than half
-    ("effect", 1e-9, 0.1, 0.7, "effect"),  # effects close most of what is explainable
+    ("effect", 1e-9, 0.01, 0.7, "effect"),  # effects close most of what is explainable, harmonic immaterial
+    ("effect", 1e-9, 0.1, 0.7, "unexplained"),  # ... but the harmonic they leave is material
+    ("effect", 0.05, 0.1, 0.7, "effect"),  # material but not significant at 0.05 / 4
     ("effect", 0.2, 0.1, 0.1, "effect"),  # not significant
-    ("effect", 1e-9, 0.1, None, "effect"),  # the harmonic removes nothing
+    ("effect", 1e-9, 0.01, None, "effect"),  # the harmonic removes nothing (and is immaterial)
     ("none", 1e-9, 0.1, None, "unexplained"),  # significant and material in the tolerant twin
     ("none", 1e-9, 0.01, None, "none"),  # significant but below the materiality floor
     ("unexplained", 1.0, 0.0, None, "unexplained"),
