@@ -134,7 +134,7 @@ def _look_alike(ranking: Ranking, f: EffectFit) -> str:
     m = ranking.play
     if f.effect.name == "clearance_growth" and m is not None:
         return (f" In the release the extra clearance lacks {m.deficit:+.3f} ± {m.deficit_std:.3f} N m of "
-                "friction against the travel right after it; a play between the motor and the screw, crossed "
+                "friction against the travel right after it; a play between motor and screw, crossed "
                 "without the screw's friction, would lack significantly more than "
                 f"{max(m.budget, m.floor):.3f} N m there: read as a wider clearance.")
     return f" {f.effect.name.replace('_', ' ').capitalize()} reads the same as {f.effect.look_alike}."

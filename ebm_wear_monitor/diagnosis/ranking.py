@@ -66,7 +66,7 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     cycles, its sizes differ by more than its floor and three standard deviations, and its size
     per cycle also trends with time once the operating mix is regressed out (at ``DRIFT_ALPHA``:
     the catalog's form fits a real effect only approximately, so its size depends on the
-    operating mix of a half too; :func:`drift_test`).  A
+    operating mix of a half too; :func:`drift_test`).
     friction that drifts within minutes (warming grease) is outside the catalog.  Clearance
     (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
@@ -99,12 +99,10 @@ the one that changes the twin's prediction most (:func:`contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
-pair closes half of it, or when an effect of material size (b) that passes (e) fails (d), whether
-it improves the held-out fit (a) or not: a friction change of
-material size that does not hold over the recording is no catalog effect (a catalog effect is a
-property of the unit), whatever share of the model error the twin within its tolerance leaves
-((a) is not asked: with the split balanced in time, a drift fitted as a constant helps held-out
-cycles spread over the recording little, or harms them; :func:`drift_candidate`); ``none`` otherwise: the twin explains the
+pair closes half of it, or when an effect passes (a), (b) and (e) and fails only (d): a
+significant friction change of material size that does not hold over the recording is
+no catalog effect (a catalog effect is a property of the unit), whatever share of the
+model error the twin within its tolerance leaves; ``none`` otherwise: the twin explains the
 data within its tolerance.  Then structure the catalog cannot represent is looked for
 (:mod:`.openset`): a significant and material torque as a function of the screw angle, left by the
 verdict's model, turns ``none`` or ``effect`` into ``unexplained``; a significant one that removes more
@@ -972,18 +970,10 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
 def _supported(sc: Scorer, f: EffectFit, level: float, w_share: dict[str, float]) -> bool:
     """Tests (a), (b), (d) and (e) of the module docstring (``w_share``: the model error of the twin
     within its tolerance, :meth:`Scorer.unexplained_share`)."""
-    if not (f.p_value < level and f.score > 0.0 and drift_candidate(f, w_share)):
+    if not (f.material and f.p_value < level and f.score > 0.0) or _worsens(w_share, f.share):
         return False
-    if f.drift is None:
-        f.drift = drift_test(sc, f)
+    f.drift = drift_test(sc, f)
     return not f.drifting
-
-
-def drift_candidate(f: EffectFit, w_share: dict[str, float]) -> bool:
-    """Tests (b) and (e): the fits whose drift (d) is asked, whether they improve the held-out fit or not
-    (a drift fitted as a constant helps held-out cycles spread over the recording little, or harms them:
-    :func:`split_by_cycle`)."""
-    return f.material and not _worsens(w_share, f.share)
 
 
 def _worsens(before: dict[str, float], after: dict[str, float]) -> bool:
@@ -1131,9 +1121,6 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     def closes_half(f: EffectFit) -> bool:
         return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
 
-    for f in fits:
-        if f.drift is None and drift_candidate(f, share):
-            f.drift = drift_test(sc, f)
     selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before, w_share=share)
     if material and (joint is None or not closes_half(joint)) and not any(f.drifting for f in fits):
         pair = best_pair(sc, fits, s_before, gap_before, w_share=share, closes=closes_half, tried=candidates)
