@@ -3,9 +3,8 @@
 **Split by cycle, stratified by force, balanced in time.**  Brake cycles (see :mod:`.phases`) are
 ordered by their peak clamp force (then time) and taken in pairs of neighbours in that order; one
 cycle of each pair is held out, so both sides cover the whole range of demands even when the demands
-repeat with an even period.  Which one is chosen so that neither side is the early or the late part of
-the recording: the sides' summed times differ by at most the largest time gap within a pair
-(:func:`balanced_choice`).  (Holding out
+repeat with an even period.  Which one alternates: the later of the first pair, the earlier of the
+second, and so on, so that neither side is the early or the late part of the recording.  (Holding out
 the second of each pair, the larger force, made the sides unbalanced in time by chance: on a foreign
 recording whose clearance grows through the recording, 8 of the 10 held-out applications were among
 the first 14 of 20, and the clearance fitted on the rest made the held-out force worse than none.)
@@ -194,9 +193,9 @@ class Split:
 
 def split_by_cycle(cycle: np.ndarray, peak_force: np.ndarray | None = None) -> Split:
     """Split stratified by force and balanced in time (module docstring): cycles ordered by peak force
-    and paired with their neighbour in that order, one of every pair held out (an odd cycle out, the
-    one of largest force, calibrates); which one, :func:`balanced_choice`.  Without forces, every second
-    cycle in time is held out."""
+    and paired with their neighbour in that order; of every pair the later one is held out in the first,
+    third, ... pair, the earlier one in the second, fourth, ... (an odd cycle out, the one of largest
+    force, calibrates).  Without forces, every second cycle in time is held out."""
     cycles = np.unique(cycle)
     if cycles.size < 4:
         raise InputError(f"only {cycles.size} brake cycle(s) found; the diagnosis needs at least 4 "
@@ -206,23 +205,11 @@ def split_by_cycle(cycle: np.ndarray, peak_force: np.ndarray | None = None) -> S
     else:
         peak = np.array([peak_force[cycle == c].max() for c in cycles])
         pairs = cycles[np.lexsort((cycles, peak))][: cycles.size // 2 * 2].reshape(-1, 2)
-        early, late = pairs.min(axis=1), pairs.max(axis=1)
-        held = np.where(balanced_choice((late - early).astype(float)), late, early)
+        later = np.arange(pairs.shape[0]) % 2 == 0
+        held = np.where(later, pairs.max(axis=1), pairs.min(axis=1))
     held = np.sort(held)
     h = np.isin(cycle, held)
     return Split(~h, h, held)
-
-
-def balanced_choice(gaps: np.ndarray) -> np.ndarray:
-    """Per pair of cycles with time gap ``gaps`` [cycles], hold out the later one (True) or the earlier:
-    the greedy partition (largest gap first, each against the running sum of the held-out side's lead in
-    time), so the held-out and the calibration side's summed times differ by at most the largest gap."""
-    later = np.zeros(gaps.size, dtype=bool)
-    lead = 0.0  # summed time of the held-out side minus the calibration side's [cycles]
-    for j in np.argsort(-gaps, kind="stable"):
-        later[j] = lead <= 0.0
-        lead += gaps[j] if later[j] else -gaps[j]
-    return later
 
 
 @dataclass(frozen=True)
