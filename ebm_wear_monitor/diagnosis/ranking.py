@@ -1,14 +1,10 @@
 """Which effect: fit on calibration cycles, judge on held-out cycles, rank, select, decide, flag near-ties.
 
-**Split by cycle, stratified by force, balanced in time.**  Brake cycles (see :mod:`.phases`) are
-ordered by their peak clamp force (then time) and taken in pairs of neighbours in that order; one
-cycle of each pair is held out, so both sides cover the whole range of demands even when the demands
-repeat with an even period.  Which one alternates: the later of the first pair, the earlier of the
-second, and so on, so that neither side is the early or the late part of the recording.  (Holding out
-the second of each pair, the larger force, made the sides unbalanced in time by chance: on a foreign
-recording whose clearance grows through the recording, 8 of the 10 held-out applications were among
-the first 14 of 20, and the clearance fitted on the rest made the held-out force worse than none.)
-A held-out cycle never contributes to any fit.  At least four cycles are needed.
+**Split by cycle, stratified by force.**  Brake cycles (see :mod:`.phases`) are
+ordered by their peak clamp force (then time) and alternate: first, third, ...
+calibrate, second, fourth, ... are held out.  Both sides thus cover the whole
+range of demands even when the demands repeat with an even period; a held-out
+cycle never contributes to any fit.  At least four cycles are needed.
 
 **Acquisition nuisances.**  The current timing and offset, the quadrature rule of
 the load, the force-sensor skew and lag (:mod:`.residuals`) are fitted first on the
@@ -192,22 +188,17 @@ class Split:
 
 
 def split_by_cycle(cycle: np.ndarray, peak_force: np.ndarray | None = None) -> Split:
-    """Split stratified by force and balanced in time (module docstring): cycles ordered by peak force
-    and paired with their neighbour in that order; of every pair the later one is held out in the first,
-    third, ... pair, the earlier one in the second, fourth, ... (an odd cycle out, the one of largest
-    force, calibrates).  Without forces, every second cycle in time is held out."""
+    """Stratified alternate split (module docstring): cycles ordered by peak force, every second held out."""
     cycles = np.unique(cycle)
     if cycles.size < 4:
         raise InputError(f"only {cycles.size} brake cycle(s) found; the diagnosis needs at least 4 "
                          "(half to fit, half held out)")
     if peak_force is None:
-        held = cycles[1::2]
+        order = cycles
     else:
         peak = np.array([peak_force[cycle == c].max() for c in cycles])
-        pairs = cycles[np.lexsort((cycles, peak))][: cycles.size // 2 * 2].reshape(-1, 2)
-        later = np.arange(pairs.shape[0]) % 2 == 0
-        held = np.where(later, pairs.max(axis=1), pairs.min(axis=1))
-    held = np.sort(held)
+        order = cycles[np.lexsort((cycles, peak))]
+    held = np.sort(order[1::2])
     h = np.isin(cycle, held)
     return Split(~h, h, held)
 
