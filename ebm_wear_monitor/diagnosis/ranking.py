@@ -883,6 +883,12 @@ class OpenSet:
         """The harmonic is significant at the open-set level (:data:`OPEN_SET_LEVEL`), material or not."""
         return self.periodic.p_value < OPEN_SET_LEVEL
 
+    @property
+    def material(self) -> bool:
+        """Significant and material: it turns ``none`` or ``effect`` into ``unexplained`` whatever the share
+        (:func:`open_set_verdict`)."""
+        return self.periodic.counts(OPEN_SET_LEVEL)
+
 
 @dataclass
 class Ranking:

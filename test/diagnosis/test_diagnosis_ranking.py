@@ -81,6 +81,29 @@ def test_strong_effect_is_named(name):
     assert "leaves no material model error" in summary(immaterial)
 
 
+def test_summary_says_why_a_position_torque_decided():
+    """The three sentences of an open-set verdict (ranking.open_set_verdict): the tolerant twin misses a
+    material position torque; the effects close less than half; they close more but leave a material one."""
+    from ebm_wear_monitor.diagnosis.openset import Periodic
+    from ebm_wear_monitor.diagnosis.ranking import OpenSet
+
+    sc, model = scorer(TRUTH["load_friction"][0], seed=3, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect"
+
+    def said(p_value, rms, share, on_effects=True):
+        periodic = Periodic(2, rms * np.sqrt(2), rms, 0.002, 0.04, p_value, 100.0, 50.0)
+        o = OpenSet(periodic, on_effects, share, True)
+        return summary(dataclasses.replace(r, verdict="unexplained", open_set=o))
+
+    assert said(1e-9, 0.1, None, on_effects=False).startswith("The twin, even within its tolerance, misses")
+    text = said(1e-9, 0.01, 0.3)
+    assert "close only 30 % of the explainable error" in text and "above 2 %" not in text
+    assert "above 2 % of the motor torque" in said(1e-9, 0.1, 0.3)
+    text = said(1e-9, 0.1, 0.7)
+    assert "close 70 % of the explainable error but leave" in text and "above 2 % of the motor torque" in text
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_no_effect_gives_verdict_none(seed):
     sc, model = scorer(Augment(), seed=seed, cycles=12)
