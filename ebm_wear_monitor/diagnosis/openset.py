@@ -38,12 +38,14 @@ of the twin within its tolerance (W, all rows), of the explaining model (E), and
 torque rows, of E's residual after the shape terms before and after the harmonic (EP): when the
 significant harmonic removes more than the effects removed from W's error, S_W - S_E, the effects
 closed less than half of the error that is explainable and the verdict ``effect`` becomes
-``unexplained``. A significant harmonic that is also material turns ``none`` or ``effect`` into
-``unexplained`` whatever that share: the verdict's model (the twin within its tolerance, or with the
-selected effects) then misses a material torque that no catalog effect makes, so a named effect would
-be a catalog shape absorbing what it can of an effect outside the catalog. (Before, an ``effect``
-verdict was judged by the share alone; on the foreign ripples a load friction or preload fitted to
-a ripple of 0.10-0.16 N m closed 60-70 % of the explainable error and left a material harmonic.)
+``unexplained``; a ``none`` verdict becomes ``unexplained`` only when the harmonic is also material
+(the twin within its tolerance then misses a material torque that no catalog effect makes). A
+material harmonic left by effects that close at least half of the explainable error was tried as a
+third route (a load friction or preload fitted to a foreign ripple of 0.10-0.16 N m closes 60-70 % and
+leaves one): it turned a preload relief and a thermally drifting force sensor of the mixed draws into
+``unexplained`` (their catalog form leaves a material shape of the position too) and gained 2 of 42
+foreign ripples (measured on the six mixed draws and ``outside_e``, probed on ``outside`` and
+``outside_b``), so it is not used.
 """
 
 from __future__ import annotations

@@ -174,14 +174,9 @@ def summary(ranking: Ranking) -> str:
             return (f"The twin, even within its tolerance, misses {torque}, above 2 % of the motor torque "
                     f"({gap}); no known effect makes such a torque: an effect outside the catalog is likely.")
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-        above = ", above 2 % of the motor torque" if o.material else ""
-        if o.share is not None and o.share < SHRINK_NEEDED:
-            return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
-                    f"explainable error; the rest is {torque}{above}, which no known effect makes: an effect "
-                    "outside the catalog is likely.")
-        closed = f" close {100.0 * o.share:.0f} % of the explainable error but" if o.share is not None else ""
-        return (f"The best known effects ({named}){closed} leave {torque}{above}, which no known effect "
-                "makes: an effect outside the catalog is likely, the named ones may only absorb part of it.")
+        return (f"The best known effects ({named}) close only {100.0 * (o.share or 0.0):.0f} % of the "
+                f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
+                "the catalog is likely.")
     s = ranking.scale
     if s is not None and ranking.scale_decided:
         size = f"{100.0 * s.gain:+.1f} % ± {100.0 * s.gain_std:.1f} %"
@@ -294,8 +289,7 @@ def position_torque(ranking: Ranking) -> PositionTorque | None:
     if o is None:
         return None
     p = o.periodic
-    return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.material,
-                          o.decided)
+    return PositionTorque(p.harmonic, p.amplitude, p.rms, p.rms_std, p.floor, p.p_value, o.share, o.decided)
 
 
 def scale_report(ranking: Ranking) -> TorqueScaleTest | None:

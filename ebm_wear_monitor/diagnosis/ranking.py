@@ -99,11 +99,10 @@ significant friction change of material size that does not hold over the recordi
 no catalog effect (a catalog effect is a property of the unit), whatever share of the
 model error the twin within its tolerance leaves; ``none`` otherwise: the twin explains the
 data within its tolerance.  Then structure the catalog cannot represent is looked for
-(:mod:`.openset`): a significant and material torque as a function of the screw angle, left by the
-verdict's model, turns ``none`` or ``effect`` into ``unexplained``; a significant one that removes more
-of the explaining model's held-out error than its effects removed turns ``effect`` into
-``unexplained`` (the effects closed less than half of what is explainable) even when it is not
-material (:func:`open_set_verdict`).  Then the motor torque's scale
+(:mod:`.openset`): a significant torque as a function of the screw angle that removes more of the
+explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
+(the effects closed less than half of what is explainable); a significant and material one turns
+``none`` into ``unexplained`` (:func:`open_set_verdict`).  Then the motor torque's scale
 (:mod:`.scale`): when the verdict's model uses the budget's +-2 % on K_T x current gain up to its bound
 and the held-out torque wants significantly more, beyond the bound with 95 % confidence, every term
 of eq. 1 is read through a scale no catalog effect changes (a torque-constant loss, a current sensor
@@ -883,12 +882,6 @@ class OpenSet:
         """The harmonic is significant at the open-set level (:data:`OPEN_SET_LEVEL`), material or not."""
         return self.periodic.p_value < OPEN_SET_LEVEL
 
-    @property
-    def material(self) -> bool:
-        """Significant and material: it turns ``none`` or ``effect`` into ``unexplained`` whatever the share
-        (:func:`open_set_verdict`)."""
-        return self.periodic.counts(OPEN_SET_LEVEL)
-
 
 @dataclass
 class Ranking:
@@ -1183,16 +1176,17 @@ def effects_share(joint: EffectFit, periodic: Periodic) -> float | None:
 def open_set_verdict(verdict: str, periodic: Periodic | None, share: float | None) -> str:
     """The verdict once a torque depending on the screw position is accounted for (:mod:`.openset`).
 
-    ``none`` or ``effect`` becomes ``unexplained`` when the harmonic is significant and material in the
-    verdict's model (the twin within its tolerance, or with the selected effects, misses a material
-    torque that no catalog effect makes); ``effect`` also when the harmonic is significant and the
-    effects close less than half of the explainable error (``share`` < 1/2: the harmonic removes more of
-    the effects' held-out error than they removed from the twin within its tolerance), material or not.
+    ``effect`` becomes ``unexplained`` when the harmonic is significant and the effects close less than
+    half of the explainable error (``share`` < 1/2: the harmonic removes more of the effects' held-out
+    error than they removed from the twin within its tolerance); ``none`` becomes ``unexplained`` when
+    the harmonic is significant and material in the twin within its tolerance.  A material harmonic
+    left by effects that close at least half does not decide (tried: it cost more catalog effects than
+    it gained ripples, README "Open set").
     """
-    if periodic is None or verdict == "unexplained":
+    if periodic is None:
         return verdict
-    if periodic.counts(OPEN_SET_LEVEL):
-        return "unexplained"
+    if verdict == "none":
+        return "unexplained" if periodic.counts(OPEN_SET_LEVEL) else verdict
     significant = periodic.p_value < OPEN_SET_LEVEL
     if verdict == "effect" and share is not None and significant and share < SHRINK_NEEDED:
         return "unexplained"

@@ -172,8 +172,6 @@ class PositionTorque(Record):
     effects_share: float | None = quantity(
         "-", "share of the explainable held-out error the effects close, (S_W - S_E) / (S_W - S_EP); "
         "null without an effect or when the harmonic removes nothing", json="effects_share")
-    material: bool = quantity("", "significant and above floor_Nm with 95 % confidence: it turns the verdict "
-                              "into unexplained whatever effects_share", json="material")
     decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
 
 

@@ -82,8 +82,8 @@ def test_strong_effect_is_named(name):
 
 
 def test_summary_says_why_a_position_torque_decided():
-    """The three sentences of an open-set verdict (ranking.open_set_verdict): the tolerant twin misses a
-    material position torque; the effects close less than half; they close more but leave a material one."""
+    """The two sentences of an open-set verdict (ranking.open_set_verdict): the tolerant twin misses a
+    material position torque; the selected effects close less than half of the explainable error."""
     from ebm_wear_monitor.diagnosis.openset import Periodic
     from ebm_wear_monitor.diagnosis.ranking import OpenSet
 
@@ -91,17 +91,15 @@ def test_summary_says_why_a_position_torque_decided():
     r = rank(sc, catalog(model))
     assert r.verdict == "effect"
 
-    def said(p_value, rms, share, on_effects=True):
-        periodic = Periodic(2, rms * np.sqrt(2), rms, 0.002, 0.04, p_value, 100.0, 50.0)
+    def said(share, on_effects=True):
+        periodic = Periodic(2, 0.1 * np.sqrt(2), 0.1, 0.002, 0.04, 1e-9, 100.0, 50.0)
         o = OpenSet(periodic, on_effects, share, True)
         return summary(dataclasses.replace(r, verdict="unexplained", open_set=o))
 
-    assert said(1e-9, 0.1, None, on_effects=False).startswith("The twin, even within its tolerance, misses")
-    text = said(1e-9, 0.01, 0.3)
-    assert "close only 30 % of the explainable error" in text and "above 2 %" not in text
-    assert "above 2 % of the motor torque" in said(1e-9, 0.1, 0.3)
-    text = said(1e-9, 0.1, 0.7)
-    assert "close 70 % of the explainable error but leave" in text and "above 2 % of the motor torque" in text
+    assert said(None, on_effects=False).startswith("The twin, even within its tolerance, misses")
+    text = said(0.3)
+    assert text.startswith("The best known effects (load friction) close only 30 % of the explainable")
+    assert "100 ± 2 mN m RMS" in text
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

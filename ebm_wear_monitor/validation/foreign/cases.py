@@ -362,11 +362,9 @@ def case_set(name: str) -> list[Case]:
     the motor-side backlash misses of the other five; ``outside_c`` (seeds from 15000): first run after
     the motor-torque scale test had been written from the torque-constant losses missed on ``outside``
     and ``outside_b``; ``outside_d`` (seeds from 23000): first run after the best pair of two;
-    ``outside_e`` (seeds from 26000): first run with ``full_f``. The open-set rule that a material
-    screw-position harmonic turns ``effect`` into ``unexplained`` (``ranking.open_set_verdict``) was
-    written after the ripple misses of ``outside`` and ``outside_b`` had been looked at (both
-    motivating recordings are from those two draws); ``full_g`` (seeds 30000 and 31000) and
-    ``outside_f`` (seeds from 32000) were first run after it, blind.
+    ``outside_e`` (seeds from 26000): first run with ``full_f``. ``full_g`` (seeds 30000 and 31000) and
+    ``outside_f`` (seeds from 32000): first run blind with the selection and verdict of ``full_f``'s run
+    (a rule tried in between and reverted, README "Open set", saw neither).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
