@@ -396,3 +396,26 @@ def test_rank_takes_the_best_pair_where_greedy_selection_leaves_the_material_err
     monkeypatch.setattr(ranking, "best_pair", lambda *a, **kw: searched.append(1))
     healthy, hmodel = scorer(None, seed=5, cycles=12)
     assert rank(healthy, catalog(hmodel)).verdict == "none" and not searched
+
+
+def test_an_effect_that_does_not_shrink_the_held_out_gap_is_not_named(monkeypatch):
+    """Test (c)'s second half, in ``rank``: the selection's model as fitted, but with its held-out gap
+    made no smaller than the nominal twin's (shrink 0), names nothing. The verdict then follows the
+    rules without a selection: here a candidate closes the material error by half, so not
+    ``unexplained`` for want of an effect."""
+    from ebm_wear_monitor.diagnosis import ranking
+
+    real = ranking._forward_select
+
+    def gap_unchanged(*args, **kw):
+        selected, joint, candidates = real(*args, **kw)
+        if joint is not None:
+            joint = dataclasses.replace(joint, shrink=0.0)
+        return selected, joint, candidates
+
+    sc, model = scorer(TRUTH["load_friction"][0], seed=3, cycles=12)
+    assert rank(sc, catalog(model)).verdict == "effect"
+    monkeypatch.setattr(ranking, "_forward_select", gap_unchanged)
+    r = rank(sc, catalog(model))
+    assert r.selected == [] and r.joint is None and r.verdict != "effect"
+    assert r.verdict == "none" or any(f.drifting for f in r.fits)
