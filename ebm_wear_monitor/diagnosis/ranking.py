@@ -5,8 +5,9 @@ ordered by their peak clamp force (then time) and alternate: first, third, ...
 calibrate, second, fourth, ... are held out.  Both sides thus cover the whole
 range of demands even when the demands repeat with an even period; a held-out
 cycle never contributes to any fit.  At least four cycles are needed.  The sides are not balanced in
-time: on a foreign clearance ramp + viscous pair, 8 of the 10 held-out applications were among the
-first 14 of 20, and the constant clearance fitted on the others made the held-out force worse.  A split
+time: on a foreign clearance ramp + viscous pair (``full_b``), all 10 held-out applications were
+among the first 14 of 20, and the constant clearance fitted on the others made the held-out force
+worse than none.  A split
 that also balances time (one of each pair of force neighbours held out, chosen so the sides' summed
 times differ by at most one pair's gap) was tried and not kept: it named that pair but reshuffled
 marginal verdicts elsewhere (on two mixed draws, with a drift test asked without (a) and the
