@@ -81,7 +81,7 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     the held-out gap where the twin as given has it explains nothing (a healthy foreign unit at 200 Hz,
     ``full_g`` none_g003: viscous +38 ± 7 % of B, p = 3e-4 against the twin within its tolerance,
     held-out gap 1.52 -> 1.54 x noise; found on that blind draw, the rule written after it; no other
-    verdict of the 13 foreign draws or of the 216 in-world cases has shrink <= 0);
+    verdict of the 14 foreign case sets or of the 216 in-world cases has shrink <= 0);
 (e) consistent: it does not make the model materially wrong in a channel, the error it adds there
     (in quadrature, held out) staying below the channel's materiality share (:func:`_worsens`): a
     force-sensor gain that closes the force gap by putting a tenth of the load torque into the torque
