@@ -1114,7 +1114,8 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
 
     selected, joint, candidates = _forward_select(sc, fits, level, s_before, gap_before, w_share=share)
-    if material and (joint is None or not closes_half(joint)) and not any(f.drifting for f in fits):
+    drifting = any(f.drifting for f in fits)
+    if material and (joint is None or not closes_half(joint)) and not drifting:
         pair = best_pair(sc, fits, s_before, gap_before, w_share=share, closes=closes_half, tried=candidates)
         if pair is not None:
             joint, selected = pair
@@ -1122,7 +1123,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         joint, selected = None, []
     if joint is not None:
         verdict = "effect" if closes_half(joint) else "unexplained"
-    elif (material and not any(closes_half(f) for f in candidates)) or any(f.drifting for f in fits):
+    elif (material and not any(closes_half(f) for f in candidates)) or drifting:
         verdict = "unexplained"
     else:
         verdict = "none"

@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+from foreign_case import foreign_diagnosis
 
 from ebm_wear_monitor.diagnosis.openset import Periodic, block_basis, periodic_structure
 from ebm_wear_monitor.diagnosis.ranking import open_set_verdict
@@ -118,21 +124,6 @@ def test_open_set_verdict_rules(verdict, p_value, rms, share, expected):
     assert open_set_verdict(verdict, None, share) == verdict
 
 
-def _foreign_diagnosis(case_id: str, n_apps: int, tmp_path):
-    """A recording of the independently written foreign generator, written as a bag, diagnosed from disk."""
-    import dataclasses
-
-    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
-    from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
-    from ebm_wear_monitor.params import load_unit
-    from ebm_wear_monitor.validation.foreign import case_set, write_case
-
-    case = next(c for c in case_set("full") if c.case_id == case_id)
-    bag = write_case(dataclasses.replace(case, n_apps=n_apps), tmp_path)
-    rec = next(iter(recordings_from_bags([bag]).values())).recording
-    return diagnose_recording(rec, load_unit())
-
-
 def test_a_foreign_torque_ripple_is_unexplained_by_the_open_set_test(tmp_path):
     """The foreign world's ripple periodic in the screw angle (validation/foreign/effects.py), which a catalog
     friction effect absorbs only in part, turns the verdict into unexplained through the position term."""
@@ -141,7 +132,7 @@ def test_a_foreign_torque_ripple_is_unexplained_by_the_open_set_test(tmp_path):
     # 0.033 vs 0.038 over 20), so the verdict turns on what the catalog does: over 20 load friction is
     # selected and the harmonic removes more than it did (the share rule, no materiality needed);
     # over 10, with the measured block noise, no effect is significant and the verdict is none
-    res = _foreign_diagnosis("torque_ripple.screw_periodic.1", 20, tmp_path)
+    res = foreign_diagnosis("full", "torque_ripple.screw_periodic.1", tmp_path, n_apps=20)
     assert res.verdict == "unexplained" and res.effects == []
     pt = res.position_torque
     assert pt is not None and pt.decided and pt.p_value < LEVEL
@@ -150,6 +141,6 @@ def test_a_foreign_torque_ripple_is_unexplained_by_the_open_set_test(tmp_path):
 
 
 def test_a_foreign_healthy_unit_has_no_position_torque(tmp_path):
-    res = _foreign_diagnosis("none_000", 10, tmp_path)
+    res = foreign_diagnosis("full", "none_000", tmp_path, n_apps=10)
     assert res.verdict == "none"
     assert res.position_torque is not None and not res.position_torque.decided
