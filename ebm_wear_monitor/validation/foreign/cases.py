@@ -329,10 +329,11 @@ def _multirate_cases() -> list[Case]:
 #: the full set's draws: name -> (seed of the no-effect cases, seed of the effect cases, id prefix)
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c"),
          "full_d": (16000, 17000, "none_d"), "full_e": (21000, 22000, "none_e"),
-         "full_f": (24000, 25000, "none_f"), "full_g": (30000, 31000, "none_g")}
+         "full_f": (24000, 25000, "none_f"), "full_g": (30000, 31000, "none_g"),
+         "full_h": (36000, 37000, "none_h")}
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
-                 "outside_e": 26000, "outside_f": 32000}
+                 "outside_e": 26000, "outside_f": 32000, "outside_g": 38000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -364,7 +365,9 @@ def case_set(name: str) -> list[Case]:
     and ``outside_b``; ``outside_d`` (seeds from 23000): first run after the best pair of two;
     ``outside_e`` (seeds from 26000): first run with ``full_f``. ``full_g`` (seeds 30000 and 31000) and
     ``outside_f`` (seeds from 32000): first run blind with the selection and verdict of ``full_f``'s run
-    (a rule tried in between and reverted, README "Open set", saw neither).
+    (a rule tried in between and reverted, README "Open set", saw neither). ``full_h`` (seeds 36000 and
+    37000) and ``outside_g`` (seeds from 38000): first run blind at beac7e3 (the shrink rule of the
+    ranking's test (c) written from ``full_g``'s false positive).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
