@@ -366,8 +366,8 @@ def case_set(name: str) -> list[Case]:
     ``outside_e`` (seeds from 26000): first run with ``full_f``. ``full_g`` (seeds 30000 and 31000) and
     ``outside_f`` (seeds from 32000): first run blind with the selection and verdict of ``full_f``'s run
     (a rule tried in between and reverted, README "Open set", saw neither). ``full_h`` (seeds 36000 and
-    37000) and ``outside_g`` (seeds from 38000): first run blind at beac7e3 (the shrink rule of the
-    ranking's test (c) written from ``full_g``'s false positive).
+    37000) and ``outside_g`` (seeds from 38000): first run blind at 09c88fd, the code of beac7e3 (with
+    the shrink rule of the ranking's test (c), written from ``full_g``'s false positive).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
