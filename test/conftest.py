@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -12,6 +13,18 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 VENV_BIN = Path(sys.executable).parent
 _domains = itertools.count()
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Give Ctrl-C back to the children when the suite itself was started with SIGINT ignored.
+
+    A command run in the background of a non-interactive shell (``cmd &``, ``nohup``) starts with SIGINT
+    ignored, and exec keeps an ignored signal ignored: the tests that interrupt a child (exit 130, one
+    line) would then see it never stop. A handler installed here is reset to the default at exec, so
+    every child starts with SIGINT at its default, as under a terminal or a CI runner.
+    """
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def _fresh_domain_id() -> int:
