@@ -18,10 +18,11 @@ _domains = itertools.count()
 def pytest_configure(config: pytest.Config) -> None:
     """Give Ctrl-C back to the children when the suite itself was started with SIGINT ignored.
 
-    A command run in the background of a non-interactive shell (``cmd &``, ``nohup``) starts with SIGINT
-    ignored, and exec keeps an ignored signal ignored: the tests that interrupt a child (exit 130, one
-    line) would then see it never stop. A handler installed here is reset to the default at exec, so
-    every child starts with SIGINT at its default, as under a terminal or a CI runner.
+    A command run in the background of a non-interactive shell (``cmd &``, e.g. ``nohup cmd &`` in a
+    script) starts with SIGINT ignored, and exec keeps an ignored signal ignored: the tests that
+    interrupt a child (exit 130, one line) would then see it never stop. A handler installed here is
+    reset to the default at exec, so every child starts with SIGINT at its default, as under a terminal
+    or a CI runner. (The suite itself then stops on a SIGINT, as it does when started in a terminal.)
     """
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)

@@ -132,10 +132,10 @@ is a play between motor and screw, not a clearance, and ``effect`` becomes ``une
 Material means in physical units (:meth:`Scorer.unexplained_share`): the RMS model error beyond the
 noise exceeds, as a share of what the channel predicts, the budget's bound on that channel
 (:data:`.tolerance.MATERIAL_SHARE`).  The point estimate decides.  Deciding with 95 % confidence
-instead, as for an effect's size in (b) (the standard error of the weighted mean excess from the
-held-out applications, Student t), was tried after the blind draw ``full_h``: it named a
+instead, one-sided like (b) (the standard error of the weighted mean excess from the held-out
+applications, judged with Student t), was tried after the blind draw ``full_h``: it named a
 load-relieved preload that the point estimate (2.4 % of the motor torque against 2 %) had read
-``unexplained``, and it turned six effects outside the catalog of three outside draws (four
+``unexplained``, and it turned six effects outside the catalog on three outside draws (four
 backlashes, two friction drifts, whose model error sits just as near the bound) into ``none`` or
 a catalog effect (``outside_b`` 32 -> 28 of 40), so it was not kept.
 
