@@ -57,6 +57,15 @@ data as a catalog effect, so the diagnosis names the effect and says what else i
   where the sampling puts at least three samples across the play; where it cannot, or finds the
   clearance's friction, the summary says which.
 
+**Limits.**  Parameters that would make the twin unphysical are out of reach of the fit: 004 eq. 9's
+friction stays dissipative (B + dB >= 0, G + dG >= 0, T_fc + dT >= 0: a negative coefficient would
+drive the motion it opposes), the clearance of eq. 5 is not negative (x_ag + dx >= 0) and the clamp's
+tangent stiffness stays positive up to the largest recorded force (K_b + 2 k_2 d_max >= 0).  An effect
+whose fit sits on such a limit is not named (:attr:`.ranking.EffectFit.nameable`): the data want more
+of it than it can physically give, so its form is not what they show (a friction that falls only at
+low load, a preload relieved by the load, was read as a viscous drag of -230 % of B: a negative B).
+(The efficiency's loss factor is kept non-negative by no box on its two parameters and is left free.)
+
 ``scale`` gives a typical magnitude per parameter (the solver's scaling);
 ``starts`` lists starting points (several for the non-linear Stribeck speed).
 """
@@ -86,6 +95,9 @@ class Effect:
     starts: tuple[tuple[float, ...], ...]  # starting points of the fit
     lower: tuple[float, ...] | None = None  # bounds (None: unbounded)
     upper: tuple[float, ...] | None = None
+    #: physical limit below which a parameter makes the twin unphysical (module docstring, "Limits"),
+    #: -inf where none; the fit is bounded there too
+    limits: tuple[float, ...] | None = None
     channels: tuple[str, ...] = ("torque",)  # residual channels the effect acts in
     #: size of a parameter vector in the unit people judge it by (module docstring), >= 0
     size: Callable[[np.ndarray], float] = lambda p: float(np.abs(p[0]))
@@ -101,6 +113,18 @@ class Effect:
     def k(self) -> int:
         """Number of fitted parameters."""
         return len(self.params)
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The fit's box: ``lower`` raised to the physical ``limits``, and ``upper``."""
+        lo = np.maximum(self.lower or (-np.inf,) * self.k, self.limits or (-np.inf,) * self.k)
+        return lo.astype(float), np.asarray(self.upper or (np.inf,) * self.k, dtype=float)
+
+    def at_limit(self, theta: np.ndarray) -> bool:
+        """A parameter sits on its physical limit (within 1e-3 of its scale): the data want more than
+        the effect can physically give (module docstring, "Limits")."""
+        if self.limits is None:
+            return False
+        return bool(np.any(np.asarray(theta) - np.asarray(self.limits) <= 1e-3 * np.asarray(self.scale)))
 
     def magnitude(self, theta: np.ndarray, stderr: np.ndarray) -> dict[str, Magnitude]:
         """Parameters in physical units, each also as a fraction of the nominal quantity it changes."""
@@ -131,11 +155,12 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
     effects = [
         Effect("viscous_friction", "lubricant viscous drag larger than modelled (004 reason 1)",
                ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(f.viscous, 1e-4),), ((0.0,),),
-               size=lambda p: abs(p[0]) / f.viscous, size_meaning="fraction of B",
+               limits=(-f.viscous,), size=lambda p: abs(p[0]) / f.viscous, size_meaning="fraction of B",
                nominal=(("B", f.viscous),)),
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
                ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(f.load_coefficient, 1e-6),),
-               ((0.0,),), size=lambda p: abs(p[0]) / f.load_coefficient, size_meaning="fraction of G",
+               ((0.0,),), limits=(-f.load_coefficient,), size=lambda p: abs(p[0]) / f.load_coefficient,
+               size_meaning="fraction of G",
                nominal=(("G", f.load_coefficient),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
                ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),
@@ -146,7 +171,7 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
                nominal=(None, None)),
         Effect("preload_change", "preload different from design: static and Coulomb shift (004 reason 4)",
                ("dT",), ("N m",), lambda p: Augment(dT_fs=p[0], dT_fc=p[0]), (0.1 * f.coulomb,), ((0.0,),),
-               size=lambda p: abs(p[0]) / f.coulomb, size_meaning="fraction of T_fc",
+               limits=(-f.coulomb,), size=lambda p: abs(p[0]) / f.coulomb, size_meaning="fraction of T_fc",
                nominal=(("T_fc", f.coulomb),)),
         Effect("stribeck", "friction falling from static to Coulomb over a speed range",
                ("T_S", "w_S"), ("N m", "rad/s"),
@@ -159,11 +184,13 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
                nominal=(("T_fc", f.coulomb), None)),
         Effect("stiffness_nonlinearity", "clamp stiffness growing with force (004 eq. 5 progressive)",
                ("k_2",), ("N/m^2",), lambda p: Augment(stiffness_quad=p[0]), (0.1 * c.stiffness / d_max,),
-               ((0.0,),), channels=("force",), size=lambda p: abs(2.0 * p[0] * d_max) / c.stiffness,
+               ((0.0,),), limits=(-0.5 * c.stiffness / d_max,), channels=("force",),
+               size=lambda p: abs(2.0 * p[0] * d_max) / c.stiffness,
                size_meaning="tangent-stiffness change at the largest recorded force, fraction of K_b",
                nominal=(None,)),
         Effect("clearance_growth", "axial clearance larger than nominal (wear)", ("dx",), ("m",),
-               lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), channels=("force",),
+               lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), limits=(-x_ag,),
+               channels=("force",),
                size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", x_ag),),
                look_alike="a play of the same size between the motor and the screw, if the angle is "
                           "measured on the motor side (the force-angle law sees only the lost motion): "
@@ -206,6 +233,8 @@ def combine(a: Effect, b: Effect) -> Effect:
 
     lo = (a.lower or (-np.inf,) * ka) + (b.lower or (-np.inf,) * b.k)
     hi = (a.upper or (np.inf,) * ka) + (b.upper or (np.inf,) * b.k)
+    limits = (a.limits or (-np.inf,) * ka) + (b.limits or (-np.inf,) * b.k)
     return Effect(f"{a.name}+{b.name}", f"{a.meaning}; {b.meaning}", a.params + b.params, a.units + b.units,
                   to_augment, a.scale + b.scale, tuple((*sa, *sb) for sa in a.starts for sb in b.starts),
-                  lo, hi, tuple(dict.fromkeys(a.channels + b.channels)), nominal=a.nominal + b.nominal)
+                  lo, hi, limits, tuple(dict.fromkeys(a.channels + b.channels)),
+                  nominal=a.nominal + b.nominal)

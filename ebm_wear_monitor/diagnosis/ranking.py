@@ -608,8 +608,9 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     fixed_part = sc.D[rows] @ t_fixed
     q = int(free.sum())
     scale = np.array([*effect.scale, *(n.scale for n in specs), *np.ones(q)], dtype=float)
-    lo = np.array([*(effect.lower or (-np.inf,) * k), *(n.lower for n in specs), *-np.ones(q)], dtype=float)
-    hi = np.array([*(effect.upper or (np.inf,) * k), *(n.upper for n in specs), *np.ones(q)], dtype=float)
+    e_lo, e_hi = effect.bounds()
+    lo = np.array([*e_lo, *(n.lower for n in specs), *-np.ones(q)], dtype=float)
+    hi = np.array([*e_hi, *(n.upper for n in specs), *np.ones(q)], dtype=float)
 
     def to_model(u: np.ndarray) -> Model:
         p = u * scale
@@ -723,6 +724,12 @@ class EffectFit:
         """Its size exceeds its detectability floor with 95 % confidence (practical significance):
         size - 1.645 std > floor."""
         return self.size - MATERIAL_Z * self.size_std > self.floor
+
+    @property
+    def nameable(self) -> bool:
+        """Material and off its physical limits (:meth:`.catalog.Effect.at_limit`): what an effect must be
+        to be named."""
+        return self.material and not self.effect.at_limit(self.theta)
 
     def entry(self) -> RankingEntry:
         """The fit as an entry of the diagnosis' ranking."""
@@ -968,7 +975,7 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
 def _supported(sc: Scorer, f: EffectFit, level: float, w_share: dict[str, float]) -> bool:
     """Tests (a), (b), (d) and (e) of the module docstring (``w_share``: the model error of the twin
     within its tolerance, :meth:`Scorer.unexplained_share`)."""
-    if not (f.material and f.p_value < level and f.score > 0.0) or _worsens(w_share, f.share):
+    if not (f.nameable and f.p_value < level and f.score > 0.0) or _worsens(w_share, f.share):
         return False
     f.drift = drift_test(sc, f)
     return not f.drifting
@@ -1275,7 +1282,7 @@ def best_pair(sc: Scorer, fits: list[EffectFit], s_before: np.ndarray, gap_befor
             continue
         k = a.effect.k
         parts = [_part(a, q.theta[:k], q.stderr[:k]), _part(b, q.theta[k:], q.stderr[k:])]
-        if not all(f.material for f in parts) \
+        if not all(f.nameable for f in parts) \
                 or addition_p(sc, b, a.effect, q) >= level / 2 or addition_p(sc, a, b.effect, q) >= level / 2:
             continue
         for f, offset in zip(parts, (0, k), strict=True):
@@ -1318,7 +1325,7 @@ def _addition(sc: Scorer, current: EffectFit, options: list[tuple[EffectFit, lis
         for together in sorted(fitted, key=lambda q: -q.score):
             theta, se = together.theta[k0:], together.stderr[k0:]
             added = _part(f, theta, se)
-            if not (added.material and together.score > current.score
+            if not (added.nameable and together.score > current.score
                     and not _worsens(current.share, together.share)):
                 continue
             together.p_value = addition_p(sc, current, f.effect, together)
@@ -1394,7 +1401,7 @@ def _rechoose_first(sc: Scorer, fits: list[EffectFit], current: EffectFit, selec
     k = alone.effect.k
     kept = _part(second, together.theta[:k], together.stderr[:k])
     first = next(f for f in fits if f.effect.name == added.effect.name)
-    earns = kept.material and together.score > first.score and not _worsens(first.share, together.share) \
+    earns = kept.nameable and together.score > first.score and not _worsens(first.share, together.share) \
         and addition_p(sc, first, alone.effect, together) < ALPHA / max(len(fits) - 1, 1)
     if not earns or _worsens(current.share, together.share):
         return current, selected
