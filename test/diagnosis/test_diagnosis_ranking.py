@@ -433,3 +433,32 @@ def test_a_foreign_healthy_unit_whose_best_effect_leaves_the_gap_is_none(tmp_pat
     viscous = next(e for e in res.ranking if e.effect == "viscous_friction")
     assert viscous.p_value < 0.05 / len(res.ranking)  # significant against the tolerant twin
     assert viscous.gap_after >= res.gap_before  # ... and no shrink of the held-out gap
+
+
+def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_named():
+    """Data whose viscous drag is B - 2 B (a negative B, no real drive has it): the viscous fit stops at
+    dB = -B (004 eq. 9 stays dissipative) and, on its limit, is not named; the catalog's limits are the
+    unit file's own coefficients (catalog module docstring, "Limits")."""
+    f = NOM.friction
+    sc, model = scorer(Augment(dB=-2.0 * f.viscous), seed=2, cycles=12)
+    cat = catalog(model)
+    assert cat["viscous_friction"].limits == (-f.viscous,)
+    assert cat["load_friction"].limits == (-f.load_coefficient,)
+    assert cat["preload_change"].limits == (-f.coulomb,)
+    assert cat["clearance_growth"].limits == (-NOM.clamp.clearance,)
+    r = rank(sc, cat)
+    viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
+    assert viscous.theta[0] == pytest.approx(-f.viscous, rel=1e-3)  # on the limit, not beyond
+    assert viscous.material and not viscous.nameable
+    assert "viscous_friction" not in [e.effect.name for e in r.selected]
+
+
+def test_a_foreign_load_relieved_preload_is_not_read_as_a_negative_viscous_drag(tmp_path):
+    """The kind of miss that prompted the limits, from the independently written foreign generator: a
+    double-nut preload relieved by the load (``full_b`` preload_change.relief.1, -20 % of T_fc at no load,
+    gone above F_r), read before them as a viscous friction whose fit wants a B below zero. Not a blind
+    test (the limits were written after this kind of miss); the foreign draws are the wider check
+    (README)."""
+    res = foreign_diagnosis("full_b", "preload_change.relief.1", tmp_path)
+    assert res.verdict == "effect" and "preload_change" in res.effects
+    assert "viscous_friction" not in res.effects
