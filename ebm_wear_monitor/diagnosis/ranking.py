@@ -64,7 +64,8 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     within its tolerance it rejected a +100 % viscous change on the twin's own data; the
     practical test (b) is the guard against significant but immaterial structure.)
 (b) practical: its fitted size exceeds its detectability floor (:mod:`.tolerance`, from
-    the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor;
+    the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor, and its fit is off
+    the physical limits of the catalog (:meth:`.catalog.Effect.at_limit`, :attr:`EffectFit.nameable`);
 (d) stationary: a friction effect is a property of the unit and must hold over the
     recording.  It drifts (fails) when, refitted on the early and on the late half of the brake
     cycles, its sizes differ by more than its floor and three standard deviations, and its size
