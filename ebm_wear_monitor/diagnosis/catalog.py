@@ -210,14 +210,15 @@ def friction_refit(nom: ActuatorModel) -> Effect:
 
     Not a catalog entry (it nests viscous_friction, load_friction and preload_change and
     would explain any friction effect at the price of three parameters); the diagnosis
-    reports it beside the ranking as the unit's refitted friction law.
+    reports it beside the ranking as the unit's refitted friction law, within the same physical
+    limits (module docstring, "Limits": T_fc, B and G not below zero).
     """
     f = nom.friction
     return Effect("friction_refit", "T_fc, B and G of 004 eq. 9 refitted together",
                   ("dT_fc", "dB", "dG"), ("N m", "N m s/rad", "N m/N"),
                   lambda p: Augment(dT_fc=p[0], dB=p[1], dG=p[2]),
                   (0.1 * f.coulomb, 0.1 * max(f.viscous, 1e-4), 0.1 * max(f.load_coefficient, 1e-6)),
-                  ((0.0, 0.0, 0.0),),
+                  ((0.0, 0.0, 0.0),), limits=(-f.coulomb, -f.viscous, -f.load_coefficient),
                   nominal=(("T_fc", f.coulomb), ("B", f.viscous), ("G", f.load_coefficient)))
 
 

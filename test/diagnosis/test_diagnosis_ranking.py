@@ -16,7 +16,7 @@ from diag_synth import synth
 from foreign_case import foreign_diagnosis
 
 from ebm_wear_monitor.diagnosis import tolerance
-from ebm_wear_monitor.diagnosis.catalog import build_catalog
+from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
 from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import DRIFT_ALPHA, Scorer, fit, rank, split_by_cycle, trend_p
@@ -451,6 +451,9 @@ def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_
     assert viscous.theta[0] == pytest.approx(-f.viscous, rel=1e-3)  # on the limit, not beyond
     assert viscous.material and not viscous.nameable
     assert "viscous_friction" not in [e.effect.name for e in r.selected]
+    # the refitted friction law reported beside the ranking keeps B >= 0 too
+    refit = fit(sc, friction_refit(NOM), sc.base)
+    assert refit.theta[1] == pytest.approx(-f.viscous, rel=1e-3)
 
 
 def test_a_foreign_load_relieved_preload_is_not_read_as_a_negative_viscous_drag(tmp_path):
