@@ -116,8 +116,8 @@ class Effect:
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """The fit's box: ``lower`` raised to the physical ``limits``, and ``upper``."""
-        lo = np.maximum(self.lower or (-np.inf,) * self.k, self.limits or (-np.inf,) * self.k)
-        return lo.astype(float), np.asarray(self.upper or (np.inf,) * self.k, dtype=float)
+        lo = np.maximum(_or_open(self.lower, self.k, -np.inf), _or_open(self.limits, self.k, -np.inf))
+        return np.asarray(lo, dtype=float), np.asarray(_or_open(self.upper, self.k, np.inf), dtype=float)
 
     def at_limit(self, theta: np.ndarray) -> bool:
         """A parameter sits on its physical limit (within 1e-3 of its scale): the data want more than
@@ -222,6 +222,11 @@ def friction_refit(nom: ActuatorModel) -> Effect:
                   nominal=(("T_fc", f.coulomb), ("B", f.viscous), ("G", f.load_coefficient)))
 
 
+def _or_open(bound: tuple[float, ...] | None, k: int, fill: float) -> tuple[float, ...]:
+    """A per-parameter bound, or ``k`` open ones (``fill``: -inf below, +inf above) where there is none."""
+    return bound if bound is not None else (fill,) * k
+
+
 def combine(a: Effect, b: Effect) -> Effect:
     """Two effects fitted together (forward selection): parameters side by side, augments merged."""
     ka = a.k
@@ -232,9 +237,9 @@ def combine(a: Effect, b: Effect) -> Effect:
                   for f in Augment.__dataclass_fields__}
         return Augment(**merged)
 
-    lo = (a.lower or (-np.inf,) * ka) + (b.lower or (-np.inf,) * b.k)
-    hi = (a.upper or (np.inf,) * ka) + (b.upper or (np.inf,) * b.k)
-    limits = (a.limits or (-np.inf,) * ka) + (b.limits or (-np.inf,) * b.k)
+    lo = _or_open(a.lower, ka, -np.inf) + _or_open(b.lower, b.k, -np.inf)
+    hi = _or_open(a.upper, ka, np.inf) + _or_open(b.upper, b.k, np.inf)
+    limits = _or_open(a.limits, ka, -np.inf) + _or_open(b.limits, b.k, -np.inf)
     return Effect(f"{a.name}+{b.name}", f"{a.meaning}; {b.meaning}", a.params + b.params, a.units + b.units,
                   to_augment, a.scale + b.scale, tuple((*sa, *sb) for sa in a.starts for sb in b.starts),
                   lo, hi, limits, tuple(dict.fromkeys(a.channels + b.channels)),

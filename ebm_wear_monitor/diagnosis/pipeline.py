@@ -174,7 +174,8 @@ def summary(ranking: Ranking) -> str:
             return (f"The twin, even within its tolerance, misses {torque}, above 2 % of the motor torque "
                     f"({gap}); no known effect makes such a torque: an effect outside the catalog is likely.")
         named = " and ".join(f.effect.name.replace("_", " ") for f in ranking.selected)
-        return (f"The best known effects ({named}) close only {100.0 * (o.share or 0.0):.0f} % of the "
+        assert o.share is not None  # on the effects only the share rule decides (open_set_verdict)
+        return (f"The best known effects ({named}) close only {100.0 * o.share:.0f} % of the "
                 f"explainable error; the rest is {torque}, which no known effect makes: an effect outside "
                 "the catalog is likely.")
     s = ranking.scale
