@@ -161,6 +161,14 @@ NUISANCE_WORDS = {
 }
 
 
+def _note(f: EffectFit) -> str:
+    """Why a fit that looks large is not named, in words: it drifts, or it ended on a physical limit."""
+    notes = ["drifts within the recording"] if f.drifting else []
+    if f.effect.at_limit(f.theta):
+        notes.append("fit ended on a physical limit (never named)")
+    return "; ".join(notes)
+
+
 def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
     """What the template shows of one unit (``res``: its diagnosis, a
     :class:`~ebm_wear_monitor.schema.diagnose.DiagnosisResult`)."""
@@ -168,8 +176,8 @@ def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
     effects = [{"effect": f.effect.name.replace("_", " "), "size": describe(f),
                 "floor": f"{100 * f.floor:.0f} %" if f.effect.size_unit == "-" else f"{f.floor * 1e6:.0f} µm",
                 "material": "yes" if f.material else "no",
-                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %",
-                "drift": "" if not f.drifting else "drifts within the recording"} for f in ranking.fits]
+                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %", "drift": _note(f)}
+               for f in ranking.fits]
     nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
                  for k, v in res.nuisances.items()]
     faults = [f"{sig}: {kind} {n}" for sig, kinds in sorted(u.input_faults_by_signal.items())

@@ -450,6 +450,8 @@ def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_
     viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
     assert viscous.theta[0] == pytest.approx(-f.viscous, rel=1e-3)  # on the limit, not beyond
     assert viscous.material and not viscous.nameable
+    assert viscous.entry().at_limit  # the ranking says why (JSON ``at_limit``)
+    assert not any(f.entry().at_limit for f in r.fits if f.effect.name == "load_friction")
     assert "viscous_friction" not in [e.effect.name for e in r.selected]
     # the refitted friction law reported beside the ranking keeps B >= 0 too
     refit = fit(sc, friction_refit(NOM), sc.base)

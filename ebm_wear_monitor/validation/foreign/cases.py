@@ -330,11 +330,12 @@ def _multirate_cases() -> list[Case]:
 DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_c": (9000, 10000, "none_c"),
          "full_d": (16000, 17000, "none_d"), "full_e": (21000, 22000, "none_e"),
          "full_f": (24000, 25000, "none_f"), "full_g": (30000, 31000, "none_g"),
-         "full_h": (36000, 37000, "none_h"), "full_i": (39000, 40000, "none_i")}
+         "full_h": (36000, 37000, "none_h"), "full_i": (39000, 40000, "none_i"),
+         "full_j": (42000, 43000, "none_j")}
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
-                 "outside_h": 41000}
+                 "outside_h": 41000, "outside_i": 44000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -371,7 +372,10 @@ def case_set(name: str) -> list[Case]:
     the shrink rule of the ranking's test (c), written from ``full_g``'s false positive). ``full_i``
     (seeds 39000 and 40000) and ``outside_h`` (seeds from 41000): first run blind with the physical
     limits of the catalog's fits (``diagnosis/catalog.py``), written after the preload reliefs read as a
-    negative viscous drag on the earlier draws.
+    negative viscous drag on the earlier draws. ``full_j`` (seeds 42000 and 43000) and ``outside_i``
+    (seeds from 44000): first run blind with a change tried and not kept (weighted levels of the first
+    effect's test, ``diagnosis/ranking.py``'s docstring), and with the code of 2228857: the verdicts
+    are the same case by case.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
