@@ -128,6 +128,35 @@ def _material_closed(ranking: Ranking, joint: EffectFit) -> str:
     return f" and {' and '.join(closed)} the twin within its tolerance leaves"
 
 
+#: what each channel's unexplained share is a share of (:meth:`.ranking.Scorer.unexplained_share`)
+SHARE_OF = {"torque": "the motor torque", "force": "the clamp force"}
+
+
+def _material_words(ranking: Ranking) -> str:
+    """The model error the twin within its tolerance leaves where it is material, against its bound: the
+    numbers the ``unexplained`` rule judged (:func:`.ranking.rank`), so that a verdict at the bound reads
+    as one."""
+    w = ranking.unexplained_share
+    return " and ".join(
+        f"{100.0 * w[ch]:.1f} % of {SHARE_OF[ch]} beyond the sensor noise where "
+        f"{100.0 * tolerance.MATERIAL_SHARE[ch]:.0f} % is material"
+        for ch in CHANNELS if w[ch] > tolerance.MATERIAL_SHARE[ch])
+
+
+def _drift_words(f: EffectFit) -> str:
+    """An ``unexplained`` verdict decided by test (d): the friction effect that changes within the recording,
+    its size on the early and the late half of the applications."""
+    d = f.drift
+    assert d is not None  # drifting means tested
+    e = f.effect
+    return (f"{e.name.replace('_', ' ').capitalize()} changes within the recording: "
+            f"{100.0 * d.early:.1f} % on the early half of the applications, {100.0 * d.late:.1f} % on the "
+            f"late half (± {100.0 * d.std:.1f} %; size: {e.size_meaning}; trend with time "
+            f"p = {d.p_value:.2g}). "
+            "A friction that drifts within minutes (grease warming up, running-in) is no property of the "
+            "unit the catalog describes: an effect outside the catalog is likely.")
+
+
 def _look_alike(ranking: Ranking, f: EffectFit) -> str:
     """What else an effect of the verdict can be (:attr:`.catalog.Effect.look_alike`), or, for a clearance
     growth the lost-motion test could ask (:mod:`.play`), what it found."""
@@ -210,9 +239,12 @@ def summary(ranking: Ranking) -> str:
                 "friction; or a friction that changes with the screw's position there. No known effect "
                 "does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
-        return (f"The twin, even within its tolerance, misses the recording ({gap}), and no known effect or "
-                f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
-                "the catalog is likely.")
+        drifting = next((f for f in ranking.fits if f.drifting), None)
+        if drifting is not None:
+            return _drift_words(drifting)
+        return (f"The twin, even within its tolerance, leaves {_material_words(ranking)} ({gap}), and no "
+                f"known effect or pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an "
+                "effect outside the catalog is likely.")
     return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} "
             "within tolerance); no effect is both significant and above its detectability floor.")
 

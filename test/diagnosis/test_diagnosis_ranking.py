@@ -133,6 +133,11 @@ def test_effect_outside_the_catalog_is_unexplained():
     sc, model = scorer(Augment(), seed=7, cycles=12, drive_gain=0.15)
     r = rank(sc, catalog(model))
     assert r.verdict == "unexplained", (r.top.effect.name, r.top.shrink, r.unexplained_share)
+    # the summary gives the numbers the rule judged: the model error left against its bound
+    share = r.unexplained_share["torque"]
+    assert share > tolerance.MATERIAL_SHARE["torque"]
+    text = f"{100 * share:.1f} % of the motor torque beyond the sensor noise where 2 % is material"
+    assert text in summary(r)
 
 
 @pytest.mark.parametrize("seed", [8, 9, 13])
@@ -145,6 +150,9 @@ def test_friction_drifting_within_the_recording_is_unexplained(seed):
     assert load.drift is not None and load.drift.drifting, load.drift
     assert load.drift.late > load.drift.early and load.drift.p_value < DRIFT_ALPHA
     assert r.verdict == "unexplained", [f.effect.name for f in r.selected]
+    text = summary(r)  # says which friction drifts, and how, not that nothing closes the gap
+    assert text.startswith("Load friction changes within the recording")
+    assert f"{100 * load.drift.early:.1f} % on the early half" in text and "fraction of G" in text
 
 
 @pytest.mark.parametrize(("seed", "dG"), [(8, 6e-6), (13, 4e-6)])
