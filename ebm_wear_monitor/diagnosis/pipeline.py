@@ -36,13 +36,14 @@ from ebm_wear_monitor.diagnosis.ranking import (
     Ranking,
     Scorer,
     evaluate,
+    material_channels,
     nominal_sse,
     rank,
     ranked_fits,
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import Resampled
-from ebm_wear_monitor.diagnosis.residuals import CHANNELS, NUISANCE_UNITS, ResidualModel, nuisances_of
+from ebm_wear_monitor.diagnosis.residuals import NUISANCE_UNITS, ResidualModel, nuisances_of
 from ebm_wear_monitor.diagnosis.where import where_table
 from ebm_wear_monitor.domain.signals import SIGNALS
 from ebm_wear_monitor.params import UnitParams
@@ -121,7 +122,7 @@ def _material_closed(ranking: Ranking, joint: EffectFit) -> str:
     twin within its tolerance the effects close, per channel (the gap also counts the noise-level rows)."""
     w = ranking.unexplained_share
     closed = [f"{100.0 * (1.0 - joint.share[ch] / w[ch]):.0f} % of the {ch} model error"
-              for ch in CHANNELS if w[ch] > tolerance.MATERIAL_SHARE[ch]]
+              for ch in material_channels(w)]
     if not closed:
         return ("; the twin within its tolerance leaves no material model error, the effect is named for its "
                 "significant size above its floor")
@@ -138,23 +139,20 @@ def _material_words(ranking: Ranking) -> str:
     as one."""
     w = ranking.unexplained_share
     return " and ".join(
-        f"{100.0 * w[ch]:.1f} % of {SHARE_OF[ch]} beyond the sensor noise where "
+        f"{100.0 * w[ch]:.2f} % of {SHARE_OF[ch]} beyond the sensor noise where "
         f"{100.0 * tolerance.MATERIAL_SHARE[ch]:.0f} % is material"
-        for ch in CHANNELS if w[ch] > tolerance.MATERIAL_SHARE[ch])
+        for ch in material_channels(w))
 
 
 def _drift_words(f: EffectFit) -> str:
-    """An ``unexplained`` verdict decided by test (d): the friction effect that changes within the recording,
-    its size on the early and the late half of the applications."""
+    """One friction effect that changes within the recording (test (d)): the magnitude of its size (a
+    fraction of the nominal quantity) on the early and the late half of the applications."""
     d = f.drift
     assert d is not None  # drifting means tested
-    e = f.effect
-    return (f"{e.name.replace('_', ' ').capitalize()} changes within the recording: "
-            f"{100.0 * d.early:.1f} % on the early half of the applications, {100.0 * d.late:.1f} % on the "
-            f"late half (± {100.0 * d.std:.1f} %; size: {e.size_meaning}; trend with time "
-            f"p = {d.p_value:.2g}). "
-            "A friction that drifts within minutes (grease warming up, running-in) is no property of the "
-            "unit the catalog describes: an effect outside the catalog is likely.")
+    return (f"the fitted {f.effect.name.replace('_', ' ')} changes within the recording: its magnitude is "
+            f"{100.0 * d.early:.1f} % on the early half of the applications and {100.0 * d.late:.1f} % on "
+            f"the late half (late - early ± {100.0 * d.std:.1f} %; {f.effect.size_meaning}; trend with "
+            f"time p = {d.p_value:.2g})")
 
 
 def _look_alike(ranking: Ranking, f: EffectFit) -> str:
@@ -239,12 +237,19 @@ def summary(ranking: Ranking) -> str:
                 "friction; or a friction that changes with the screw's position there. No known effect "
                 "does that: an effect outside the catalog is likely.")
     if ranking.verdict == "unexplained":
-        drifting = next((f for f in ranking.fits if f.drifting), None)
-        if drifting is not None:
-            return _drift_words(drifting)
-        return (f"The twin, even within its tolerance, leaves {_material_words(ranking)} ({gap}), and no "
-                f"known effect or pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an "
-                "effect outside the catalog is likely.")
+        material = _material_words(ranking)
+        within = f"held-out gap {ranking.gap_tolerance:.2f} x noise within its tolerance"
+        drifting = [f for f in ranking.fits if f.drifting]
+        if ranking.joint is None and drifting:  # test (d) decided (:func:`.ranking.rank`)
+            left = f" The twin within its tolerance leaves {material} ({within})." if material else ""
+            words = "; ".join(_drift_words(f) for f in drifting)
+            return (f"{words[0].upper()}{words[1:]}. A friction that drifts "
+                    "within minutes (grease warming up, running-in) is no property of the unit the catalog "
+                    f"describes: an effect outside the catalog is likely.{left}")
+        assert material  # otherwise a material error no effect or pair closes half of decided
+        return (f"The twin, even within its tolerance, leaves {material} ({within}), and no known effect or "
+                f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
+                "the catalog is likely.")
     return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} "
             "within tolerance); no effect is both significant and above its detectability floor.")
 

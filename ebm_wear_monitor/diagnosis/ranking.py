@@ -738,18 +738,23 @@ class EffectFit:
     def nameable(self) -> bool:
         """Material and off its physical limits (:meth:`.catalog.Effect.at_limit`): what an effect must be
         to be named."""
-        return self.material and not self.effect.at_limit(self.theta)
+        return self.material and not self.at_limit
+
+    @property
+    def at_limit(self) -> bool:
+        """The fit ended on a physical limit of the catalog (:meth:`.catalog.Effect.at_limit`)."""
+        return self.effect.at_limit(self.theta)
 
     def entry(self) -> RankingEntry:
         """The fit as an entry of the diagnosis' ranking."""
         e = self.effect
         return RankingEntry(
-            e.name, self.score, self.gap_after, self.shrink, self.p_value, e.k, self.material,
-            e.at_limit(self.theta), self.drift,
-            Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor),
-            e.magnitude(self.theta, self.stderr),
-            {p: Parameter(float(v), float(s), u)
-             for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)})
+            effect=e.name, score=self.score, gap_after=self.gap_after, shrink=self.shrink,
+            p_value=self.p_value, k=e.k, material=self.material, at_limit=self.at_limit, drift=self.drift,
+            size=Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor),
+            magnitude=e.magnitude(self.theta, self.stderr),
+            parameters={p: Parameter(float(v), float(s), u)
+                        for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)})
 
 
 def size_gradient(effect: Effect, theta: np.ndarray) -> np.ndarray:
@@ -977,6 +982,12 @@ class Ranking:
         return max(self.selected, key=lambda f: f.contribution)
 
 
+def material_channels(share: dict[str, float]) -> list[str]:
+    """The channels whose unexplained share (:meth:`Scorer.unexplained_share`) exceeds its materiality
+    bound (:data:`.tolerance.MATERIAL_SHARE`)."""
+    return [ch for ch in CHANNELS if share[ch] > tolerance.MATERIAL_SHARE[ch]]
+
+
 def nominal_sse(sc: Scorer) -> np.ndarray:
     """Held-out sum of z^2 per cycle of the twin within its tolerance (the baseline of :func:`evaluate`)."""
     return sc.cycle_sse(sc.base)
@@ -1131,7 +1142,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     top = fits[0]
     top.ties = [f.effect.name for j, f in enumerate(fits) if j > 0 and _tied(fits, 0, j)]
     share = sc.unexplained_share(sc.base)
-    material = [ch for ch in CHANNELS if share[ch] > tolerance.MATERIAL_SHARE[ch]]
+    material = material_channels(share)
 
     def closes_half(f: EffectFit) -> bool:
         return all(f.share[ch] <= SHRINK_NEEDED * share[ch] for ch in material)
