@@ -161,7 +161,7 @@ NUISANCE_WORDS = {
 }
 
 
-def _note(f: EffectFit) -> str:
+def effect_note(f: EffectFit) -> str:
     """Why a fit that looks large is not named, in words: it drifts, or it ended on a physical limit."""
     notes = ["drifts within the recording"] if f.drifting else []
     if f.at_limit:
@@ -176,7 +176,7 @@ def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
     effects = [{"effect": f.effect.name.replace("_", " "), "size": describe(f),
                 "floor": f"{100 * f.floor:.0f} %" if f.effect.size_unit == "-" else f"{f.floor * 1e6:.0f} µm",
                 "material": "yes" if f.material else "no",
-                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %", "note": _note(f)}
+                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %", "note": effect_note(f)}
                for f in ranking.fits]
     nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
                  for k, v in res.nuisances.items()]

@@ -20,6 +20,7 @@ from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
 from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import DRIFT_ALPHA, Scorer, fit, rank, split_by_cycle, trend_p
+from ebm_wear_monitor.diagnosis.report import effect_note
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
@@ -464,6 +465,9 @@ def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_
     entries = [f.entry() for f in r.fits]
     assert [(e.material, e.at_limit) for e in entries] == [(f.material, f.at_limit) for f in r.fits]
     assert sum(f.at_limit for f in r.fits) < len(r.fits)  # the others are off their limits
+    # the report's table says why the large viscous fit is not named, and nothing of the others
+    assert effect_note(viscous) == "fit ended on a physical limit (never named)"
+    assert all(effect_note(f) == "" for f in r.fits if not f.at_limit and not f.drifting)
     assert "viscous_friction" not in [e.effect.name for e in r.selected]
     # the refitted friction law reported beside the ranking keeps B >= 0 too
     refit = fit(sc, friction_refit(NOM), sc.base)
