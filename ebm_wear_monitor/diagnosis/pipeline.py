@@ -243,7 +243,11 @@ def summary(ranking: Ranking) -> str:
         if ranking.joint is None and drifting:  # test (d) decided (:func:`.ranking.rank`)
             left = f" The twin within its tolerance leaves {material} ({within})." if material else ""
             words = "; ".join(_drift_words(f) for f in drifting)
-            return (f"{words[0].upper()}{words[1:]}. A friction that drifts "
+            # each is fitted alone: where the whole law drifts, each takes the others' part too (foreign
+            # outside_i rising.0: eq. 9's friction +13 % from the early to the late half; load friction
+            # alone +26 %, preload alone +20 %)
+            alone = " (each fitted alone, so each also takes the others' part)" if len(drifting) > 1 else ""
+            return (f"{words[0].upper()}{words[1:]}{alone}. A friction that drifts "
                     "within minutes (grease warming up, running-in) is no property of the unit the catalog "
                     f"describes: an effect outside the catalog is likely.{left}")
         assert material  # otherwise a material error no effect or pair closes half of decided
