@@ -54,7 +54,7 @@ def signal_noise(x: np.ndarray) -> float:
     return max(sigma, quantum / np.sqrt(12.0))
 
 
-def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
+def series_noise(r: np.ndarray, group: np.ndarray | None = None, min_diffs: int = 1) -> float:
     """Noise standard deviation of a block-residual series from lag-2 curvature within groups.
 
     d_b = r_b - (r_{b-2} + r_{b+2}) / 2 cancels any part of the residual that is
@@ -63,7 +63,9 @@ def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
     sigma^2; hence sigma = 1.4826 MAD(d) / sqrt(1.5).  Blocks two apart share no
     end-point sample.  ``group`` (same length) labels contiguous segments;
     differences never cross a segment boundary.  Returns 0 when fewer than 5
-    blocks are available.
+    blocks, or fewer than ``min_diffs`` differences within segments, are available
+    (the MAD of a handful of differences is no scale: of three, it is 0 one time in
+    three... and far below sigma often).
     """
     r = np.asarray(r, dtype=float)
     if r.size < 5:
@@ -72,6 +74,8 @@ def series_noise(r: np.ndarray, group: np.ndarray | None = None) -> float:
     if group is not None:
         group = np.asarray(group)
         d = d[(group[:-4] == group[2:-2]) & (group[4:] == group[2:-2])]
+    if d.size < min_diffs:
+        return 0.0
     return mad_sigma(d) / np.sqrt(1.5)
 
 

@@ -199,6 +199,8 @@ TIE_ALPHA = 0.05  # level of the paired test that separates the top effect from 
 NOISE_SCALE_MIN = 0.1
 #: fewest rows a median scale is measured on (:meth:`Scorer.noise_scale`)
 MIN_SCALE_ROWS = 10
+#: fewest lag-2 differences a phase's residual-based noise is taken from (:func:`_quietest_phase_noise`)
+QUIET_DIFFS = 12
 SHRINK_NEEDED = 0.5  # share of the held-out gap an effect (or pair) must close (issue 10 item 4)
 #: level of the screw-position harmonic (:mod:`.openset`): ALPHA over the harmonics tried
 OPEN_SET_LEVEL = ALPHA / HARMONICS
@@ -568,9 +570,12 @@ def _noise_scale(lag2: float | None, r: np.ndarray, s: np.ndarray, extra: np.nda
 def _quietest_phase_noise(r: np.ndarray, model: ResidualModel, rows: np.ndarray) -> float:
     """Residual-based noise scale: the smallest :func:`.noise.series_noise` of r over the phases.
 
-    Each phase with enough blocks gives an estimate from the blocks inside its runs, two blocks away
-    from either end: a model error is sharpest where a motion starts or stops (an inertia or a
-    timing error then carries the acceleration's step), and the lag-2 curvature would take it for
+    Each phase gives an estimate from the blocks inside its runs, two blocks away from either end, when
+    they hold at least ``QUIET_DIFFS`` lag-2 differences within a run (the force generation of a short
+    application may hold one or two inner blocks per run: 28 such blocks of a closed-form recording at
+    500 Hz read 0.39 times the propagated noise where the block noise was 2.8 times it, and the minimum
+    over the phases took that).  A model error is sharpest where a motion starts or stops (an inertia or
+    a timing error then carries the acceleration's step), and the lag-2 curvature would take it for
     noise; inside a run a model error varies smoothly and cancels.  Model error that still does not
     cancel can only inflate the estimate, so the quietest phase is the closest to the noise.
     """
@@ -580,8 +585,8 @@ def _quietest_phase_noise(r: np.ndarray, model: ResidualModel, rows: np.ndarray)
     last = np.concatenate((b.run[1:] != b.run[:-1], [True]))
     stop = np.minimum.accumulate(np.where(last, np.arange(b.size), b.size)[::-1])[::-1]
     inner = (np.arange(b.size) - start >= 2) & (stop - np.arange(b.size) >= 2)
-    est = [series_noise(r[k], b.run[k]) for ph in np.unique(b.phase)
-           if (k := rows & inner & (b.phase == ph)).sum() >= 12]
+    est = [series_noise(r[k], b.run[k], min_diffs=QUIET_DIFFS) for ph in np.unique(b.phase)
+           if (k := rows & inner & (b.phase == ph)).any()]
     est = [e for e in est if e > 0.0]
     return min(est) if est else 0.0
 
