@@ -139,7 +139,7 @@ def _material_words(ranking: Ranking) -> str:
     as one."""
     w = ranking.unexplained_share
     return " and ".join(
-        f"{100.0 * w[ch]:.2f} % of {SHARE_OF[ch]} beyond the sensor noise where "
+        f"{100.0 * w[ch]:.2f} % of {SHARE_OF[ch]} beyond the noise where "
         f"{100.0 * tolerance.MATERIAL_SHARE[ch]:.0f} % is material"
         for ch in material_channels(w))
 

@@ -461,7 +461,7 @@ class Scorer:
         return float(np.sqrt(max(ms - 1.0, 0.0)))
 
     def unexplained_share(self, m: Model) -> dict[str, float]:
-        """RMS model error beyond the sensor noise on the held-out blocks, per channel, as a share of the
+        """RMS model error beyond the noise on the held-out blocks, per channel, as a share of the
         signal the channel predicts: sqrt(mean(R^2 - sigma_s^2)) over the RMS motor torque (moving
         blocks) and over the RMS clamp force (released blocks in contact), both means weighted by
         sigma_s^-4 (the inverse variance of R^2 - sigma_s^2 under noise alone: a block whose sensor
@@ -1231,16 +1231,20 @@ def motor_scale(sc: Scorer, m: Model) -> TorqueScale | None:
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
     """Torque depending on the screw position in the held-out torque residual of ``m`` (:mod:`.openset`),
     beyond the catalog's own shapes: per direction of motion a constant, a term in the clamp force and
-    one in the speed (004 eq. 9's Coulomb, load and viscous terms, free per direction)."""
+    one in the speed (004 eq. 9's Coulomb, load and viscous terms, free per direction).  Blocks whose
+    friction eq. 9 leaves undetermined (stick and slip not told apart, :mod:`.residuals`) are left out:
+    how a drive creeps is its own convention, the same in every application, and many such blocks would
+    add up to a position-shaped torque as significant as any ripple."""
     mdl, b = sc.model, sc.model.blocks
+    resolved = b.moving & (mdl.ambiguous_torque == 0.0)
     z = sc.z_raw(m.aug, np.ones(b.size, bool), ("torque",)) + sc.D[:b.size] @ m.t
     forward = np.isin(b.phase, (Phase.CLEARANCE_ELIMINATION, Phase.FORCE_GENERATION)).astype(float)
     backward = (b.phase == Phase.FORCE_RELEASE).astype(float)
     shapes = np.column_stack([forward, backward, forward * b.force, backward * b.force,
                               forward * b.speed, backward * b.speed])
     return periodic_structure(mdl.rec.angle, b.start, b.stop, z, sigma=sc.sigma_torque, shapes=shapes,
-                              calibration=sc.split.calibration & b.moving,
-                              heldout=sc.split.heldout & b.moving, drive=mdl.drive_block())
+                              calibration=sc.split.calibration & resolved,
+                              heldout=sc.split.heldout & resolved, drive=mdl.drive_block())
 
 
 def effects_share(joint: EffectFit, periodic: Periodic) -> float | None:

@@ -32,7 +32,8 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
-          play_share: float = 0.6, angle_side: str = "screw", rest_pulse: float = 0.0) -> Resampled:
+          play_share: float = 0.6, angle_side: str = "screw", rest_pulse: float = 0.0, creep: float = 0.0,
+          creep_friction: float = 1.0, angle_quantum: float = 0.0) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -50,6 +51,12 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     ``rest_pulse`` [N m]: in every idle a half sine of motor torque of this peak that the recorded screw
     does not feel (a motor turning inside a play, the angle on the screw): the drive at rest alone, the
     moving blocks untouched (outside the catalog).
+
+    ``creep`` [screw rad/s]: during the hold the nut creeps on at this speed (a force loop pushing against
+    breakaway), the force rising with it, and its friction there is ``creep_friction`` times eq. 9's
+    sliding friction (a stick-slip whose average friction is below the sliding level: how a drive creeps
+    is its own convention). ``angle_quantum`` [rad]: the recorded angle is quantised to this step (an
+    encoder's count), after its noise.
     """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
@@ -61,18 +68,20 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)
         x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness + play
-        seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_end),
-               ("release", 0.8 * T_app, x_end, 0.0), ("idle", 0.1, 0.0, 0.0)]
+        x_hold = x_end + 0.25 * creep * nom.lead / (2.0 * math.pi)  # where the creep ends [m]
+        seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_hold),
+               ("release", 0.8 * T_app, x_hold, 0.0), ("idle", 0.1, 0.0, 0.0)]
         for kind, dur, xa, xb in seg:
             t = np.arange(0.0, dur, 1.0 / rate)
-            p, v, a = _min_jerk(t / dur)
+            p, v, a = _min_jerk(t / dur) if kind != "hold" else (t / dur, np.full(t.size, 1.0), 0.0 * t)
             x = xa + (xb - xa) * p
             xd = (xb - xa) * v / dur
             xdd = (xb - xa) * a / dur**2
             pulse = rest_pulse * np.sin(np.pi * t / dur) * (kind == "idle")
-            parts.append((t0 + t, x, xd, xdd, np.full(t.size, c / max(cycles - 1, 1)), pulse))
+            parts.append((t0 + t, x, xd, xdd, np.full(t.size, c / max(cycles - 1, 1)), pulse,
+                          np.full(t.size, kind == "hold")))
             t0 += dur
-    t, x, xd, xdd, age, pulse = (np.concatenate(c) for c in zip(*parts, strict=True))
+    t, x, xd, xdd, age, pulse, hold = (np.concatenate(c) for c in zip(*parts, strict=True))
     k = 2.0 * math.pi / nom.lead  # screw rad per metre, 004 eq. 4
     x_c = nom.clamp.clearance + aug.clearance  # nut travel at contact [m]
     x_motor, coupled = x, np.ones(x.size, bool)
@@ -90,6 +99,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
                           + T_L * (aug.eff_base + aug.eff_speed * speed)
                           + aug.stribeck_torque * np.exp(-(speed / aug.stribeck_speed) ** 2))
     T_f = np.where(coupled, T_f, (1.0 - play_share) * np.sign(w_m) * (law.coulomb + law.viscous * speed))
+    T_f = np.where(hold, creep_friction * T_f, T_f)
     T_f = np.where(speed > 1e-3, T_f, 0.0)
     current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f + pulse)  # 004 eq. 1, 7
                / (nom.torque_constant * (1.0 - drive_gain)))
@@ -99,6 +109,8 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     sig = {"angle": k * (x_motor if on_motor else x), "velocity": velocity, "axial_force": force_meas,
            "current": current}
     sig = {n: v + rng.normal(0.0, noise[n], v.size) for n, v in sig.items()}
+    if angle_quantum > 0.0:
+        sig["angle"] = angle_quantum * np.round(sig["angle"] / angle_quantum)
     return Resampled(t, **sig)
 
 

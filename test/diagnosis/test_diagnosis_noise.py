@@ -46,3 +46,11 @@ def test_median_scale_ignores_a_minority_of_model_error_and_is_zero_when_extra_e
     assert median_scale(r, s) == pytest.approx(1.0, abs=0.12)  # the mean square would say ~16
     assert np.sqrt(np.mean((r / s) ** 2)) > 10.0
     assert median_scale(r[300:], s[300:], np.full(2700, 1.0)) == 0.0  # e = 10 s explains it all
+
+
+def test_series_noise_needs_enough_differences():
+    """Groups of five blocks offer one lag-2 difference each: three groups give no scale, 300 do."""
+    rng = np.random.default_rng(6)
+    few, many = (rng.normal(0.0, 1.0, 5 * n) for n in (3, 300))
+    assert series_noise(few, np.repeat(np.arange(3), 5), min_diffs=12) == 0.0
+    assert series_noise(many, np.repeat(np.arange(300), 5), min_diffs=12) == pytest.approx(1.0, rel=0.15)
