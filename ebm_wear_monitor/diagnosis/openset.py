@@ -20,8 +20,10 @@ are only four smooth shapes of the position in the stroke, and k is not identifi
 4`` was chosen knowing that the foreign generator draws its ripple with k in 1-4 (a disclosure: the
 validation of this test on that generator's ripple is not blind to its form).
 
-**Test.**  On the moving blocks the torque residual r of the explaining model (the selected effects, or
-the twin within its tolerance when none is selected) is normalised by its block noise, z = r / sigma;
+**Test.**  On the moving blocks (but those whose friction eq. 9 leaves undetermined, stick and slip
+not told apart: :func:`.ranking.screw_periodic`) the torque residual r of the explaining model (the
+selected effects, or the twin within its tolerance when none is selected) is normalised by its block
+noise, z = r / sigma;
 regressors are divided by sigma too, so coefficients are in N m. The shape terms alone, then the shape
 terms with each harmonic, are fitted to z on the calibration blocks; the harmonic that lowers the
 calibration sum of z^2 most is judged on the held-out blocks (shape terms and harmonic as fitted on

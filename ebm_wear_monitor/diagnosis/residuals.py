@@ -387,13 +387,17 @@ class ResidualModel:
         cannot be told from standstill, |d theta| <= that same bound, the friction is only known
         to lie in the stick band, uniformly: standard deviation (T_fs + G F) / sqrt(3).  The errors
         of one creep share a sign, so such a block's uncertainty is the share of those intervals
-        among its moving ones times that standard deviation.  A block that moves less than that bound
-        per interval on average is unresolved too: every increment lies within the bound (a quantised
-        encoder shows 0 or 1 count), so a steady creep and a stick-slip by steps below the bound look
-        alike.  (A healthy foreign unit of the blind draw ``full_j`` with a 12-bit motor-side encoder,
-        none_j003, held the force by creeping at 0.2-0.6 rad/s of the motor, one count every 3-8 ms,
-        and its blocks there missed the sliding friction by +-0.1 N m.)  Smoothly moving blocks (a slow
-        but steady creep resolved by the angle included) keep their full weight.
+        among its moving ones times that standard deviation.  A block that moves less than one count of
+        a quantised angle per interval on average is unresolved too: its increments are 0 or 1 count,
+        within the scatter a steady creep has, so a steady creep and a stick-slip look alike.  (A
+        healthy foreign unit of the blind draw ``full_j`` with a 12-bit motor-side encoder, none_j003,
+        held the force by creeping at 0.2-0.6 rad/s of the motor, one count every 3-8 ms, and its
+        blocks there missed the sliding friction by +-0.1 N m.)  With a continuous angle the increments
+        of every interval carry the motion and only the scatter decides; the noise bound is no measure
+        of resolution (at 250 Hz the second differences count the trajectory's own curvature into the
+        angle noise, and a bound of 18 counts took the slow blocks that showed a foreign Stribeck
+        friction for creep).  Smoothly moving blocks (a slow but steady creep resolved by the angle
+        included) keep their full weight.
         """
         rec, b, n = self.rec, self.blocks, self.nominal
         dtheta = np.diff(rec.angle)
@@ -412,8 +416,8 @@ class ResidualModel:
         icpt = (Y0 - slope * S1) / np.maximum(S0, 1.0)
         sse = Y2 - icpt * Y0 - slope * Y1
         scatter = np.sqrt(np.maximum(sse, 0.0) / np.maximum(S0 - 2.0, 1.0))
-        # a creep slower than the bound per interval is unresolved: its increments are all within it
-        unresolved = np.abs(Y0) <= bound * np.maximum(S0, 1.0)
+        # a creep by less than one count per interval is unresolved: a staircase of 0 and 1 counts
+        unresolved = np.abs(Y0) < quantum * np.maximum(S0, 1.0)
         irregular = (scatter > bound) | unresolved
         amb = cum(((adt <= bound) & moving_interval).astype(float))
         mov = cum(moving_interval.astype(float))
