@@ -25,7 +25,6 @@ from ebm_wear_monitor.diagnosis.ranking import (
     Scorer,
     fit,
     rank,
-    sensor_noise,
     split_by_cycle,
     trend_p,
 )
@@ -158,38 +157,27 @@ def test_effect_outside_the_catalog_is_unexplained():
 def _jittered(seed, drive_gain=0.0):
     """A recording whose current carries a block-scale jitter the sensor propagation misses: white noise of
     0.2 A through a 10-sample moving average (a drive's loop reacting to its own measurement noise), whose
-    second differences are small while its 20 ms block means scatter; and that jitter as a torque."""
+    second differences are small while its 20 ms block means scatter."""
     rec = synth(NOM, Augment(), cycles=12, seed=seed, drive_gain=drive_gain)
     rng = np.random.default_rng(100 + seed)
     jitter = np.convolve(rng.normal(0.0, 0.2, rec.t.size + 9), np.ones(10) / 10.0, mode="valid")
-    return dataclasses.replace(rec, current=rec.current + jitter), NOM.torque_constant * jitter
+    return dataclasses.replace(rec, current=rec.current + jitter)
 
 
-@pytest.mark.parametrize("seed", [1, 2])
-def test_noise_the_sensors_miss_is_no_model_error(seed):
-    # a healthy unit: only the floor of the white noise the residual shows keeps the jitter from reading as
-    # a material model error
-    rec, jitter = _jittered(seed)
-    model = residual_model(rec, NOM)
-    sensors = Scorer.sensors(model)
-    scale = sensors.noise_scale()
-    b = model.blocks
-    # the jitter's block scatter against the propagated noise, measured on the injected jitter itself
-    missed = float(np.std(b.mean(jitter)[b.moving]) / np.median(sensor_noise(model)[0][b.moving]))
-    assert missed > 2.0 and 0.5 * missed < scale.white_torque < 2.5 * missed, (missed, scale)
-    bound = tolerance.MATERIAL_SHARE["torque"]
-    unfloored = sensors.scaled(scale._replace(white_torque=1.0))
-    assert unfloored.unexplained_share(unfloored.base)["torque"] > bound
-    sc = sensors.scaled(scale)
-    assert sc.unexplained_share(sc.base)["torque"] < bound
-    assert rank(sc, catalog(model)).verdict == "none"
+def test_a_healthy_unit_whose_noise_the_sensors_understate_reads_none(tmp_path):
+    # the blind draw full_j's one false positive (2 kHz, cascade ECU, 12-bit motor-side encoder): its
+    # free-travel blocks scatter 11 times the noise propagated from the sensors and its force is held by a
+    # creep of one count every 3-8 ms; with the propagated noise alone it read 2.7 % of the motor torque
+    # beyond the noise against the 2 % bound: unexplained
+    res = foreign_diagnosis("full_j", "none_j003", tmp_path)
+    assert res.verdict == "none", res.summary
 
 
 def test_the_noise_floor_cannot_hide_a_smooth_model_error():
     # the same jitter over a 15 % torque-constant loss: the lag-2 curvature cancels the loss, so the floor
     # stays near the jitter and the loss remains material (the tolerances can only take error away: at most
     # 0.15 / 0.85 of the torque the twin predicts)
-    rec, _ = _jittered(7, drive_gain=0.15)
+    rec = _jittered(7, drive_gain=0.15)
     model = residual_model(rec, NOM)
     sensors = Scorer.sensors(model)
     sc = sensors.scaled(sensors.noise_scale())
