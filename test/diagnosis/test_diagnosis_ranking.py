@@ -154,36 +154,14 @@ def test_effect_outside_the_catalog_is_unexplained():
     assert "within the recording" not in words  # no friction drifts here: the drift words would mislead
 
 
-def _jittered(seed, drive_gain=0.0):
-    """A recording whose current carries a block-scale jitter the sensor propagation misses: white noise of
-    0.2 A through a 10-sample moving average (a drive's loop reacting to its own measurement noise), whose
-    second differences are small while its 20 ms block means scatter."""
-    rec = synth(NOM, Augment(), cycles=12, seed=seed, drive_gain=drive_gain)
-    rng = np.random.default_rng(100 + seed)
-    jitter = np.convolve(rng.normal(0.0, 0.2, rec.t.size + 9), np.ones(10) / 10.0, mode="valid")
-    return dataclasses.replace(rec, current=rec.current + jitter)
-
-
 def test_a_healthy_unit_whose_noise_the_sensors_understate_reads_none(tmp_path):
     # the blind draw full_j's one false positive (2 kHz, cascade ECU, 12-bit motor-side encoder): its
     # free-travel blocks scatter 11 times the noise propagated from the sensors and its force is held by a
     # creep of one count every 3-8 ms; with the propagated noise alone it read 2.7 % of the motor torque
-    # beyond the noise against the 2 % bound: unexplained
+    # beyond the noise against the 2 % bound: unexplained.  Not a blind test: the change was written from
+    # this case; the draw full_k was run blind after it
     res = foreign_diagnosis("full_j", "none_j003", tmp_path)
     assert res.verdict == "none", res.summary
-
-
-def test_the_noise_floor_cannot_hide_a_smooth_model_error():
-    # the same jitter over a 15 % torque-constant loss: the lag-2 curvature cancels the loss, so the floor
-    # stays near the jitter and the loss remains material (the tolerances can only take error away: at most
-    # 0.15 / 0.85 of the torque the twin predicts)
-    rec = _jittered(7, drive_gain=0.15)
-    model = residual_model(rec, NOM)
-    sensors = Scorer.sensors(model)
-    sc = sensors.scaled(sensors.noise_scale())
-    r = rank(sc, catalog(model))
-    assert tolerance.MATERIAL_SHARE["torque"] < r.unexplained_share["torque"] <= 0.15 / 0.85
-    assert r.verdict == "unexplained"
 
 
 @pytest.mark.parametrize("seed", [1, 3])
@@ -191,7 +169,8 @@ def test_a_creep_the_encoder_does_not_resolve_is_no_effect(seed):
     # a healthy unit with a 12-bit encoder on the motor creeps on through the hold at 0.1 rad/s of the screw,
     # less than one count per sample, with a stick-slip friction averaging 3/4 of eq. 9's sliding branch:
     # the encoder cannot tell that creep from a steady one, so it is no effect and no position structure
-    # (before the unresolved creep was counted, seeds 1 and 3 read an efficiency variation)
+    # (before the unresolved creep was counted, seeds 1 and 3 read an efficiency variation: these seeds
+    # were chosen as the ones that failed; seeds 2, 4 and 5 hold no moving block in the hold)
     quantum = 2.0 * np.pi / (4096 * NOM.gear_ratio)
     rec = synth(NOM, Augment(), cycles=12, seed=seed, creep=0.1, creep_friction=0.75, angle_quantum=quantum,
                 noise={"angle": 0.0, "velocity": 0.05, "axial_force": 30.0, "current": 0.03})
