@@ -48,10 +48,16 @@ def signal_noise(x: np.ndarray) -> float:
     d = np.abs(x[2:] - 2.0 * x[1:-1] + x[:-2])
     kept = d[d <= np.quantile(d, TRIM)]
     sigma = float(np.sqrt(np.mean(kept * kept) / TRIM_FACTOR / 6.0)) if kept.size else 0.0
+    return max(sigma, quantum(x) / np.sqrt(12.0))
+
+
+def quantum(x: np.ndarray) -> float:
+    """The smallest nonzero step between consecutive samples (the count of a quantised signal; for a
+    continuous one a tiny number), 0 when the signal never changes."""
+    x = np.asarray(x, dtype=float)
     steps = np.abs(np.diff(x))
-    steps = steps[steps > 1e-12 * max(1.0, float(np.max(np.abs(x))))]
-    quantum = float(np.min(steps)) if steps.size else 0.0
-    return max(sigma, quantum / np.sqrt(12.0))
+    steps = steps[steps > 1e-12 * max(1.0, float(np.max(np.abs(x)))) if x.size else steps]
+    return float(np.min(steps)) if steps.size else 0.0
 
 
 def series_noise(r: np.ndarray, group: np.ndarray | None = None, min_diffs: int = 1) -> float:

@@ -88,7 +88,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from ebm_wear_monitor.diagnosis.conventions import Conventions
-from ebm_wear_monitor.diagnosis.noise import signal_noise
+from ebm_wear_monitor.diagnosis.noise import quantum, signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S
@@ -402,9 +402,8 @@ class ResidualModel:
         rec, b, n = self.rec, self.blocks, self.nominal
         dtheta = np.diff(rec.angle)
         adt = np.abs(dtheta)
-        steps = adt[adt > 1e-12 * max(1.0, float(np.max(np.abs(rec.angle))))]
-        quantum = float(np.min(steps)) if steps.size else 0.0
-        bound = max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * quantum)
+        count = quantum(rec.angle)
+        bound = max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * count)
         moving_interval = self.moving[1:] | self.moving[:-1]
         cum = lambda y: np.concatenate(([0.0], np.cumsum(y)))  # noqa: E731
         k = np.arange(dtheta.size, dtype=float)
@@ -417,7 +416,7 @@ class ResidualModel:
         sse = Y2 - icpt * Y0 - slope * Y1
         scatter = np.sqrt(np.maximum(sse, 0.0) / np.maximum(S0 - 2.0, 1.0))
         # a creep by less than one count per interval is unresolved: a staircase of 0 and 1 counts
-        unresolved = np.abs(Y0) < quantum * np.maximum(S0, 1.0)
+        unresolved = np.abs(Y0) < count * np.maximum(S0, 1.0)
         irregular = (scatter > bound) | unresolved
         amb = cum(((adt <= bound) & moving_interval).astype(float))
         mov = cum(moving_interval.astype(float))
