@@ -331,11 +331,13 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_d": (16000, 17000, "none_d"), "full_e": (21000, 22000, "none_e"),
          "full_f": (24000, 25000, "none_f"), "full_g": (30000, 31000, "none_g"),
          "full_h": (36000, 37000, "none_h"), "full_i": (39000, 40000, "none_i"),
-         "full_j": (42000, 43000, "none_j"), "full_k": (45000, 46000, "none_k")}
+         "full_j": (42000, 43000, "none_j"), "full_k": (45000, 46000, "none_k"),
+         "full_l": (48000, 49000, "none_l")}
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
-                 "outside_h": 41000, "outside_i": 44000, "outside_j": 47000}
+                 "outside_h": 41000, "outside_i": 44000, "outside_j": 47000,
+                 "outside_k": 50000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -378,6 +380,8 @@ def case_set(name: str) -> list[Case]:
     are the same case by case.  ``full_k`` (seeds 45000 and 46000) and ``outside_j`` (seeds from 47000):
     first run blind with the materiality noise floor, the unresolved creep of a quantised encoder and
     the phase noise estimate's minimum of differences, written from ``full_j``'s false positive.
+    ``full_l`` (seeds 48000 and 49000) and ``outside_k`` (seeds from 50000): first run blind with the
+    lost-motion test's windows of two samples (one interval) instead of three.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
