@@ -16,10 +16,10 @@ from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state, residual_model, summary
-from ebm_wear_monitor.diagnosis.play import LostMotion, lost_motion
+from ebm_wear_monitor.diagnosis.play import MIN_CROSSINGS, LostMotion, crossings, lost_motion
 from ebm_wear_monitor.diagnosis.ranking import ALPHA, Scorer, rank
 from ebm_wear_monitor.diagnosis.report import write_report
-from ebm_wear_monitor.diagnosis.residuals import Augment
+from ebm_wear_monitor.diagnosis.residuals import Augment, clamp_spring
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
@@ -29,7 +29,7 @@ NOM = actuator_model(load_unit())
 X_AG = NOM.clamp.clearance
 PLAY = 0.2 * X_AG  # 40 µm of nut travel
 SHARE = 0.6  # share of the no-load friction downstream of the play (the screw's)
-RATE = 2000.0  # the release crosses 40 µm in a few ms: at 200 Hz too few samples (the test is not made)
+RATE = 2000.0  # the release crosses 40 µm in a few ms: at 150-200 Hz too few samples (the test is not made)
 
 
 def recording(seed: int, **kw):
@@ -79,21 +79,30 @@ def test_no_extra_clearance_no_test():
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
 def test_two_samples_a_window_tell_a_play_from_a_clearance_at_400_hz(seed):
     # at 400 Hz the release crosses 40 µm in two or three samples: one interval per window is enough to
-    # find the play, and a clearance crossed with the screw's friction still reads d = 0 (closed form)
+    # find the play (its deficit positive and of the closed form's order, SHARE (T_fc + B |w_m|): the
+    # windows' edges take part of it), and a clearance crossed with the screw's friction, whose closed
+    # form is d = 0, does not count
     play = scorer(synth(NOM, Augment(), cycles=12, rate=400.0, seed=seed, play=PLAY, play_share=SHARE,
                         angle_side="motor"))
     clear = scorer(synth(NOM, Augment(clearance=PLAY), cycles=12, rate=400.0, seed=seed))
     found = lost_motion(play.model, Augment(clearance=PLAY), play.split.heldout_cycles)
     same = lost_motion(clear.model, Augment(clearance=PLAY), clear.split.heldout_cycles)
     assert found is not None and found.counts(ALPHA), found
+    law = NOM.friction
+    assert found.deficit > 0.3 * SHARE * law.coulomb, found
     assert same is not None and not same.counts(ALPHA), same
+    assert abs(same.deficit) < 3.0 * same.deficit_std + 0.05, same
 
 
 def test_too_few_samples_in_the_window_no_test():
-    # at 200 Hz the release crosses 40 µm in one sample (module docstring, "Reach")
+    # at 200 Hz the release crosses 40 µm in one or two samples: fewer than MIN_CROSSINGS releases hold
+    # two in each window (module docstring, "Reach")
     rec = synth(NOM, Augment(), cycles=12, rate=200.0, seed=0, play=PLAY, angle_side="motor")
     sc = scorer(rec)
-    assert lost_motion(sc.model, Augment(clearance=PLAY), sc.split.heldout_cycles) is None
+    aug = Augment(clearance=PLAY)
+    start, _ = crossings(sc.model, float(clamp_spring(NOM, aug).clearance), PLAY, sc.split.heldout_cycles)
+    assert start.shape[0] < MIN_CROSSINGS
+    assert lost_motion(sc.model, aug, sc.split.heldout_cycles) is None
 
 
 def test_a_play_read_as_clearance_growth_turns_unexplained(tmp_path):
@@ -126,8 +135,8 @@ def test_a_clearance_growth_summary_says_what_the_release_showed():
     text = summary(r)
     assert text.startswith("axial clearance larger than nominal")
     assert text.endswith("read as a wider clearance.")
-    # ... not asked (too few samples across the extra clearance at 200 Hz): it names the look-alike
-    rec = synth(NOM, Augment(clearance=PLAY), cycles=12, rate=200.0, seed=1)
+    # ... not asked (too few samples across the extra clearance at 150 Hz): it names the look-alike
+    rec = synth(NOM, Augment(clearance=PLAY), cycles=12, rate=150.0, seed=1)
     sc = scorer(rec)
     r = rank(sc, build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max())))
     assert r.verdict == "effect" and r.play is None
