@@ -55,8 +55,10 @@ def quantum(x: np.ndarray) -> float:
     """The smallest nonzero step between consecutive samples (the count of a quantised signal; for a
     continuous one a tiny number), 0 when the signal never changes."""
     x = np.asarray(x, dtype=float)
+    if x.size < 2:
+        return 0.0
     steps = np.abs(np.diff(x))
-    steps = steps[steps > 1e-12 * max(1.0, float(np.max(np.abs(x)))) if x.size else steps]
+    steps = steps[steps > 1e-12 * max(1.0, float(np.max(np.abs(x))))]
     return float(np.min(steps)) if steps.size else 0.0
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ebm_wear_monitor.diagnosis.noise import mad_sigma, median_scale, series_noise, signal_noise
+from ebm_wear_monitor.diagnosis.noise import mad_sigma, median_scale, quantum, series_noise, signal_noise
 
 
 @pytest.mark.parametrize("sigma", [0.01, 1.0, 50.0])
@@ -54,3 +54,15 @@ def test_series_noise_needs_enough_differences():
     few, many = (rng.normal(0.0, 1.0, 5 * n) for n in (3, 300))
     assert series_noise(few, np.repeat(np.arange(3), 5), min_diffs=12) == 0.0
     assert series_noise(many, np.repeat(np.arange(300), 5), min_diffs=12) == pytest.approx(1.0, rel=0.15)
+
+
+def test_quantum_is_the_count_of_a_quantised_signal():
+    # a slow random walk read by a 12-bit encoder (count 2 pi / 4096) moves by 0 or 1 count per sample
+    # mostly: its smallest nonzero step is the count; with an offset of many turns the count still reads
+    count = 2.0 * np.pi / 4096
+    walk = np.cumsum(np.random.default_rng(0).normal(0.0, 0.5 * count, 2000))
+    for offset in (0.0, 494.1):
+        assert quantum(offset + count * np.round(walk / count)) == pytest.approx(count, rel=1e-6)
+    assert quantum(walk) < 0.01 * count  # continuous: some step far below any count
+    assert quantum(np.full(10, 3.0)) == 0.0  # never moves
+    assert quantum(np.array([])) == 0.0 and quantum(np.array([1.0])) == 0.0

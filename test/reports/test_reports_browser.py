@@ -102,22 +102,15 @@ def test_fleet_dashboard_sorts_filters_and_drills_down(fleet, tmp_path, open_pag
 
 def test_diagnose_report(repo, tmp_path, open_page):
     report = tmp_path / "diag"
-    bag = repo / "bags" / "fleet" / "train1" / "car2" / "embu1" / "2026-11-20.bag"
-    assert main(["diagnose", str(bag), "--params", "embu_000", "--report", str(report), "--no-progress"]) == 0
+    assert main(["diagnose", str(repo / "bags" / "healthy"), "--params", "embu_000", "--report", str(report),
+                 "--no-progress"]) == 0
     opened = open_page(report / "index.html")
     page = opened.page
     _assert_clean(opened, "diagnose report")
     page.wait_for_selector(".js-plotly-plot .main-svg")
-    # residuals per phase, gap closed per effect, and torque against the screw position where the open-set
-    # test ran: it needs 32 moving blocks of determined friction on each side, more than this short
-    # recording of the twin has once its creeping blocks are left out
-    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
-    from ebm_wear_monitor.diagnosis.pipeline import analyse
-    from ebm_wear_monitor.params import load_unit
-
-    rec = next(iter(recordings_from_bags([bag]).values())).recording
-    tested = analyse(rec, load_unit("embu_000"))[1].open_set is not None
-    assert page.locator(".js-plotly-plot").count() == 2 + tested
+    # residuals per phase, gap closed per effect, torque against the screw position (the open-set test runs
+    # on this recording: its 8.5 s hold enough moving blocks of determined friction on each side)
+    assert page.locator(".js-plotly-plot").count() == 3
     # the verdict in words, the effect table with sizes against floors, the estimated conventions
     assert page.locator(".card .status").first.inner_text().strip()
     assert page.locator("text=floor").count() >= 1 and page.locator("text=force-sensor lag").count() == 1
