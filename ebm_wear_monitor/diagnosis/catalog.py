@@ -54,8 +54,8 @@ data as a catalog effect, so the diagnosis names the effect and says what else i
   apart is the friction downstream of it that the motor does not feel while crossing it, some
   milliseconds at the start of an application and after contact is lost, which the block residuals
   do not resolve.  The lost-motion test (:mod:`.play`) asks it after contact is lost in the release,
-  where the sampling puts at least three samples across the play; where it cannot, or finds the
-  clearance's friction, the summary says which.
+  where the sampling puts at least two samples (one interval) in each window across the play; where
+  it cannot, or finds the clearance's friction, the summary says which.
 
 **Limits.**  Parameters that would make the twin unphysical are out of reach of the fit: 004 eq. 9's
 friction stays dissipative (B + dB >= 0, G + dG >= 0, T_fc + dT >= 0: a negative coefficient would

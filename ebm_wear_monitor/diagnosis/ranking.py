@@ -184,7 +184,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     kinetic_friction,
     moves,
 )
-from ebm_wear_monitor.diagnosis.scale import TorqueScale, budget_bound, entry_index, torque_scale
+from ebm_wear_monitor.diagnosis.scale import ENTRY, TorqueScale, budget_bound, entry_index, torque_scale
 from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
@@ -1201,7 +1201,8 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         opened = open_set_verdict(verdict, periodic, share_closed)
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
-    drive_scale = motor_scale(sc, verdict_model) if verdict != "unexplained" else None
+    owner = None if explaining is None else owner_columns(sc, explaining)
+    drive_scale = motor_scale(sc, verdict_model, owner) if verdict != "unexplained" else None
     if decides(drive_scale):
         verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
@@ -1217,14 +1218,35 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
                    drive_scale, rest, play)
 
 
-def motor_scale(sc: Scorer, m: Model) -> TorqueScale | None:
+def motor_scale(sc: Scorer, m: Model, owner: np.ndarray | None = None) -> TorqueScale | None:
     """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
-    (:mod:`.scale`)."""
+    (:mod:`.scale`); ``owner``: the responses of the effects that own the entry (:func:`owner_columns`)."""
     b, i = sc.model.blocks, entry_index()
     moving = b.moving
     return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
                         bound=budget_bound(sc.model.nominal), cycles=b.cycle[moving],
-                        calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving])
+                        calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving],
+                        owner=owner)
+
+
+def owner_columns(sc: Scorer, f: EffectFit) -> np.ndarray | None:
+    """dz/d(theta) on the moving blocks' torque rows of every parameter of ``f``'s effects, by forward
+    differences at ``f``'s fit (the solver's step, :func:`fit`), when one of them owns the scale's budget
+    entry (:data:`.tolerance.OWN`: an efficiency variation, a force-sensor bias): that entry was then held
+    at zero while all of them were fitted, so each took what it could of a scale (:mod:`.scale`, "Owner").
+    None when none owns it (the entry was fitted with them and the test needs no refit)."""
+    if not any(ENTRY in tolerance.OWN.get(p, ()) for p in f.effect.name.split("+")):
+        return None
+    moving = sc.model.blocks.moving
+    z0 = sc.z(f.model, moving, ("torque",))
+    cols = []
+    for j in range(f.theta.size):
+        step = 1e-3 * max(abs(f.effect.scale[j]), abs(float(f.theta[j])))
+        theta = f.theta.copy()
+        theta[j] += step
+        aug = _merge(f.model.aug, f.effect.to_augment(theta), {})
+        cols.append((sc.z(dataclasses.replace(f.model, aug=aug), moving, ("torque",)) - z0) / step)
+    return np.column_stack(cols)
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:
