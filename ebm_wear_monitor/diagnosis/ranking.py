@@ -1201,8 +1201,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
         opened = open_set_verdict(verdict, periodic, share_closed)
         open_set = OpenSet(periodic, explaining is not None, share_closed, opened != verdict)
         verdict = opened
-    owner = None if explaining is None else owner_columns(sc, explaining)
-    drive_scale = motor_scale(sc, verdict_model, owner) if verdict != "unexplained" else None
+    drive_scale = motor_scale(sc, verdict_model, explaining) if verdict != "unexplained" else None
     if decides(drive_scale):
         verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
@@ -1218,35 +1217,59 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
                    drive_scale, rest, play)
 
 
-def motor_scale(sc: Scorer, m: Model, owner: np.ndarray | None = None) -> TorqueScale | None:
+def motor_scale(sc: Scorer, m: Model, f: EffectFit | None = None) -> TorqueScale | None:
     """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
-    (:mod:`.scale`); ``owner``: the responses of the effects that own the entry (:func:`owner_columns`)."""
-    b, i = sc.model.blocks, entry_index()
-    moving = b.moving
-    return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
-                        bound=budget_bound(sc.model.nominal), cycles=b.cycle[moving],
-                        calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving],
+    (:mod:`.scale`).  ``f``: the verdict's effects, when ``m`` is their fit; where one of them owns the
+    scale's entry, c is refitted with their parameters (:func:`owner_columns`) on the rows of their fit's
+    channels: the moving blocks' torque and, for an effect in the force channel, every block's force,
+    which pins a force-sensor gain (the entry's response is zero there)."""
+    i = entry_index()
+    owns = f is not None and any(ENTRY in tolerance.OWN.get(p, ()) for p in f.effect.name.split("+"))
+    spec = _scale_rows(sc, f.effect.channels if f is not None and owns else ("torque",))
+    owner = owner_columns(sc, f, spec) if f is not None and owns else None
+    rows = np.concatenate([sc.rows(mask, (ch,)) for ch, mask in spec])
+    valid = [sc.valid(mask, ch) for ch, mask in spec]
+    return torque_scale(_z_rows(sc, m, spec), sc.D[rows, i], float(m.t[i]),
+                        bound=budget_bound(sc.model.nominal),
+                        cycles=np.concatenate([sc.model.blocks.cycle[v] for v in valid]),
+                        calibration=np.concatenate([sc.split.calibration[v] for v in valid]),
+                        heldout=np.concatenate([sc.split.heldout[v] for v in valid]),
                         owner=owner)
 
 
-def owner_columns(sc: Scorer, f: EffectFit) -> np.ndarray | None:
-    """dz/d(theta) on the moving blocks' torque rows of every parameter of ``f``'s effects, by forward
-    differences at ``f``'s fit (the solver's step, :func:`fit`), when one of them owns the scale's budget
-    entry (:data:`.tolerance.OWN`: an efficiency variation, a force-sensor bias): that entry was then held
-    at zero while all of them were fitted, so each took what it could of a scale (:mod:`.scale`, "Owner").
-    None when none owns it (the entry was fitted with them and the test needs no refit)."""
-    if not any(ENTRY in tolerance.OWN.get(p, ()) for p in f.effect.name.split("+")):
-        return None
-    moving = sc.model.blocks.moving
-    z0 = sc.z(f.model, moving, ("torque",))
+def _scale_rows(sc: Scorer, channels: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
+    """(channel, block mask) of the scale test's rows: the moving blocks' torque (at rest the friction is
+    undetermined inside its band), every block's force where ``channels`` has it."""
+    every = np.ones(sc.model.blocks.size, bool)
+    return [("torque", sc.model.blocks.moving)] + ([("force", every)] if "force" in channels else [])
+
+
+def _z_rows(sc: Scorer, m: Model, spec: list[tuple[str, np.ndarray]]) -> np.ndarray:
+    return np.concatenate([sc.z(m, mask, (ch,)) for ch, mask in spec])
+
+
+def owner_columns(sc: Scorer, f: EffectFit, spec: list[tuple[str, np.ndarray]]) -> np.ndarray | None:
+    """dz/d(theta) on the rows ``spec`` (:func:`_scale_rows`) of every parameter of ``f``'s effects that its
+    fit left free, by forward differences at the fit (the step of :func:`fit`'s Jacobian, taken backward
+    at an upper bound): where one of them owns the scale's budget entry (:data:`.tolerance.OWN`: an
+    efficiency variation, a force-sensor bias), the entry was held at zero while all of them were fitted,
+    so each took what it could of a scale (:mod:`.scale`, "Owner").  A parameter on a bound of its box
+    (within 1e-3 of its scale) is held there, as the solver held it; None when none is free."""
+    lo, hi = f.effect.bounds()
+    scale = np.abs(np.asarray(f.effect.scale, dtype=float))
+    free = (f.theta - lo > 1e-3 * scale) & (hi - f.theta > 1e-3 * scale)
+    z0 = _z_rows(sc, f.model, spec)
     cols = []
-    for j in range(f.theta.size):
-        step = 1e-3 * max(abs(f.effect.scale[j]), abs(float(f.theta[j])))
+    for j in np.flatnonzero(free):
+        step = 1e-3 * max(scale[j], abs(float(f.theta[j])))
+        step = -step if f.theta[j] + step > hi[j] else step
         theta = f.theta.copy()
         theta[j] += step
         aug = _merge(f.model.aug, f.effect.to_augment(theta), {})
-        cols.append((sc.z(dataclasses.replace(f.model, aug=aug), moving, ("torque",)) - z0) / step)
-    return np.column_stack(cols)
+        col = (_z_rows(sc, dataclasses.replace(f.model, aug=aug), spec) - z0) / step
+        if np.all(np.isfinite(col)):
+            cols.append(col)
+    return np.column_stack(cols) if cols else None
 
 
 def screw_periodic(sc: Scorer, m: Model) -> Periodic | None:

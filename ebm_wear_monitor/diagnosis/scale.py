@@ -106,6 +106,9 @@ from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
 #: the budget entry whose scale is tested
 ENTRY = "torque_constant"
+#: the response is taken as vanishing when what the owning effects cannot make of it is below this share of
+#: its square norm (round-off of a response they make whole)
+COLLINEAR = 1e-10
 
 
 @dataclass(frozen=True)
@@ -146,12 +149,13 @@ def torque_scale(z: np.ndarray, response: np.ndarray, t: float, *, bound: float,
     where one of them owns the entry (one column each), refitted with c (:func:`beyond_owner`). None when
     a side has fewer than two rows or the response vanishes there.
     """
+    whole = float(response[calibration] @ response[calibration])
     if owner is not None:
         response = beyond_owner(response, owner, calibration)
     dc, dh = response[calibration], response[heldout]
     dd = float(dc @ dc)
     n = int(calibration.sum())
-    if n < 2 or heldout.sum() < 2 or dd <= 0.0:
+    if n < 2 or heldout.sum() < 2 or dd <= COLLINEAR * whole:
         return None
     c = -float(dc @ z[calibration]) / dd
     rc = z[calibration] + c * dc

@@ -25,7 +25,6 @@ from ebm_wear_monitor.diagnosis.ranking import (
     evaluate,
     motor_scale,
     nominal_sse,
-    owner_columns,
     rank,
 )
 from ebm_wear_monitor.diagnosis.report import write_report
@@ -87,11 +86,15 @@ def test_a_loss_read_as_load_friction_turns_unexplained_and_says_why():
         assert ("35 mN m RMS" in text) is named
 
 
-def _efficiency_scale(sc: Scorer, owned: bool):
-    """The scale test on the efficiency variation fitted alone; ``owned``: c refitted with its parameters."""
+def _effect_scale(sc: Scorer, name: str, owned: bool):
+    """The scale test on ``name`` fitted alone; ``owned``: c refitted with its parameters."""
     catalog = build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max()))
-    f = evaluate(sc, catalog["efficiency_variation"], nominal_sse(sc), sc.gap(sc.base), tested=False)
-    return motor_scale(sc, f.model, owner_columns(sc, f) if owned else None)
+    f = evaluate(sc, catalog[name], nominal_sse(sc), sc.gap(sc.base), tested=False)
+    return motor_scale(sc, f.model, f if owned else None)
+
+
+def _efficiency_scale(sc: Scorer, owned: bool):
+    return _effect_scale(sc, "efficiency_variation", owned)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -120,6 +123,38 @@ def test_an_efficiency_variation_is_not_read_as_a_scale(seed):
     sensors = Scorer.sensors(residual_model(rec, NOM))
     res = _efficiency_scale(sensors.scaled(sensors.noise_scale()), owned=True)
     assert res is not None and not res.counts(ALPHA) and abs(res.gain) < 0.02, res
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_force_sensor_gain_is_not_read_as_a_scale(seed):
+    # the catalog's force-sensor gain (+4 %) and no loss: its gain is pinned by the force rows, which the
+    # refit keeps (the scale's response is zero there), so the torque cannot pull it into a scale
+    rec = synth(NOM, Augment(force_gain=0.04), cycles=CYCLES, seed=seed)
+    sensors = Scorer.sensors(residual_model(rec, NOM))
+    res = _effect_scale(sensors.scaled(sensors.noise_scale()), "force_sensor_bias", owned=True)
+    assert res is not None and not res.counts(ALPHA) and abs(res.gain) < 0.02, res
+
+
+def test_the_refit_is_the_joint_least_squares_fit():
+    # c fitted on the part of d the owner's columns J cannot make equals the coefficient of d in the least
+    # squares fit of -z by [d, J] together (Frisch-Waugh-Lovell), on the calibration rows; the held-out
+    # test applies the same joint change
+    rng = np.random.default_rng(5)
+    n = 400
+    J = rng.normal(size=(n, 2))
+    d = 0.6 * J[:, 0] + rng.normal(size=n)
+    z = -(0.7 * d + J @ np.array([0.3, -0.2])) + rng.normal(0.0, 0.1, n)
+    cycles = np.arange(n) // 20
+    calibration = cycles % 2 == 0
+    res = scale.torque_scale(z, d, 0.0, bound=0.02, cycles=cycles, calibration=calibration,
+                             heldout=~calibration, owner=J)
+    assert res is not None
+    coef = np.linalg.lstsq(np.column_stack([d, J])[calibration], -z[calibration], rcond=None)[0]
+    assert res.gain == pytest.approx(0.02 * coef[0], rel=1e-9)
+    assert res.gain == pytest.approx(0.02 * 0.7, rel=0.05)
+    # a response the owner's columns make whole leaves nothing to test, not a scale of round-off
+    assert scale.torque_scale(z, d, 0.0, bound=0.02, cycles=cycles, calibration=calibration,
+                              heldout=~calibration, owner=np.column_stack([J, d])) is None
 
 
 def test_the_report_carries_the_test(tmp_path):
