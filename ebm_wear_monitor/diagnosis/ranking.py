@@ -1220,45 +1220,30 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
 def motor_scale(sc: Scorer, m: Model, f: EffectFit | None = None) -> TorqueScale | None:
     """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
     (:mod:`.scale`).  ``f``: the verdict's effects, when ``m`` is their fit; where one of them owns the
-    scale's entry, c is refitted with their parameters (:func:`owner_columns`) on the rows of their fit's
-    channels: the moving blocks' torque and, for an effect in the force channel, every block's force,
-    which pins a force-sensor gain (the entry's response is zero there)."""
-    i = entry_index()
+    scale's entry, c is refitted with their parameters on the same rows (:func:`owner_columns`)."""
+    b, i = sc.model.blocks, entry_index()
+    moving = b.moving
     owns = f is not None and any(ENTRY in tolerance.OWN.get(p, ()) for p in f.effect.name.split("+"))
-    spec = _scale_rows(sc, f.effect.channels if f is not None and owns else ("torque",))
-    owner = owner_columns(sc, f, spec) if f is not None and owns else None
-    rows = np.concatenate([sc.rows(mask, (ch,)) for ch, mask in spec])
-    valid = [sc.valid(mask, ch) for ch, mask in spec]
-    return torque_scale(_z_rows(sc, m, spec), sc.D[rows, i], float(m.t[i]),
-                        bound=budget_bound(sc.model.nominal),
-                        cycles=np.concatenate([sc.model.blocks.cycle[v] for v in valid]),
-                        calibration=np.concatenate([sc.split.calibration[v] for v in valid]),
-                        heldout=np.concatenate([sc.split.heldout[v] for v in valid]),
-                        owner=owner)
+    return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
+                        bound=budget_bound(sc.model.nominal), cycles=b.cycle[moving],
+                        calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving],
+                        owner=owner_columns(sc, f) if f is not None and owns else None)
 
 
-def _scale_rows(sc: Scorer, channels: tuple[str, ...]) -> list[tuple[str, np.ndarray]]:
-    """(channel, block mask) of the scale test's rows: the moving blocks' torque (at rest the friction is
-    undetermined inside its band), every block's force where ``channels`` has it."""
-    every = np.ones(sc.model.blocks.size, bool)
-    return [("torque", sc.model.blocks.moving)] + ([("force", every)] if "force" in channels else [])
-
-
-def _z_rows(sc: Scorer, m: Model, spec: list[tuple[str, np.ndarray]]) -> np.ndarray:
-    return np.concatenate([sc.z(m, mask, (ch,)) for ch, mask in spec])
-
-
-def owner_columns(sc: Scorer, f: EffectFit, spec: list[tuple[str, np.ndarray]]) -> np.ndarray | None:
-    """dz/d(theta) on the rows ``spec`` (:func:`_scale_rows`) of every parameter of ``f``'s effects that its
-    fit left free, by forward differences at the fit (the step of :func:`fit`'s Jacobian, taken backward
-    at an upper bound): where one of them owns the scale's budget entry (:data:`.tolerance.OWN`: an
+def owner_columns(sc: Scorer, f: EffectFit) -> np.ndarray | None:
+    """dz/d(theta) on the moving blocks' torque rows of every parameter of ``f``'s effects that its fit
+    left free, by forward differences at the fit (the step of :func:`fit`'s Jacobian, taken backward at
+    an upper bound): where one of them owns the scale's budget entry (:data:`.tolerance.OWN`: an
     efficiency variation, a force-sensor bias), the entry was held at zero while all of them were fitted,
-    so each took what it could of a scale (:mod:`.scale`, "Owner").  A parameter on a bound of its box
-    (within 1e-3 of its scale) is held there, as the solver held it; None when none is free."""
+    so each took what it could of a scale (:mod:`.scale`, "Owner").  The torque rows only: the scale acts
+    there, and the question is whether any values of the effects make the torque without it.  A parameter
+    on a bound of its box (within 1e-3 of its scale) is held there, as the solver held it; None when none
+    is free."""
     lo, hi = f.effect.bounds()
     scale = np.abs(np.asarray(f.effect.scale, dtype=float))
     free = (f.theta - lo > 1e-3 * scale) & (hi - f.theta > 1e-3 * scale)
-    z0 = _z_rows(sc, f.model, spec)
+    moving = sc.model.blocks.moving
+    z0 = sc.z(f.model, moving, ("torque",))
     cols = []
     for j in np.flatnonzero(free):
         step = 1e-3 * max(scale[j], abs(float(f.theta[j])))
@@ -1266,7 +1251,7 @@ def owner_columns(sc: Scorer, f: EffectFit, spec: list[tuple[str, np.ndarray]]) 
         theta = f.theta.copy()
         theta[j] += step
         aug = _merge(f.model.aug, f.effect.to_augment(theta), {})
-        col = (_z_rows(sc, dataclasses.replace(f.model, aug=aug), spec) - z0) / step
+        col = (sc.z(dataclasses.replace(f.model, aug=aug), moving, ("torque",)) - z0) / step
         if np.all(np.isfinite(col)):
             cols.append(col)
     return np.column_stack(cols) if cols else None

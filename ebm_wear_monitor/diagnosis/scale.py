@@ -48,7 +48,8 @@ as load friction + preload, left at -2.04 % ± 0.06 %, does not count (it did wi
 error alone, ± 0.02 %).
 
 **Reach.**  The other deviations of the model (its effects, nuisances and budget entries) are held
-where its fit put them while c is fitted alone, so |g| is a lower bound on the scale the data want:
+where its fit put them while c is fitted alone (except the effects' parameters where one of them owns
+the entry: "Owner" below), so |g| is a lower bound on the scale the data want:
 they have already absorbed what of it they can (on diag_synth's closed-form recordings a 10 % loss
 with no effect selected reads g = -3.5 to -3.8 %, where a joint refit with the entry's bound widened
 comes close to the loss itself; with effects selected, g is what they leave, e.g. -3.4 % on a foreign 16.4 %

@@ -127,8 +127,8 @@ def test_an_efficiency_variation_is_not_read_as_a_scale(seed):
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_force_sensor_gain_is_not_read_as_a_scale(seed):
-    # the catalog's force-sensor gain (+4 %) and no loss: its gain is pinned by the force rows, which the
-    # refit keeps (the scale's response is zero there), so the torque cannot pull it into a scale
+    # the catalog's force-sensor gain (+4 %) and no loss: refitted with the gain on the torque rows, the
+    # scale stays inside the bound (the gain moves the load torque only, never the inertia torque)
     rec = synth(NOM, Augment(force_gain=0.04), cycles=CYCLES, seed=seed)
     sensors = Scorer.sensors(residual_model(rec, NOM))
     res = _effect_scale(sensors.scaled(sensors.noise_scale()), "force_sensor_bias", owned=True)
