@@ -65,7 +65,7 @@ and current sensor are not, so where the screw-position harmonic (:mod:`.openset
 beside it the summary names the ripple as reading the same (on all three, and on one of the three
 losses). The test says the scale is outside the budget, not what moved it.
 
-**Owner.** An effect that owns the ``torque_constant`` entry (an efficiency variation, a force-sensor bias:
+**Owner.**  An effect that owns the ``torque_constant`` entry (an efficiency variation, a force-sensor bias:
 :data:`.tolerance.OWN`) holds t at zero while the verdict's model is fitted, so every effect of that model,
 the owner and those selected with it, has taken what it could of a scale with the entry held: an
 efficiency's loss factor the loss's share of the apply's load torque, a Stribeck, preload or load friction
@@ -84,17 +84,16 @@ beside the effects and no refit is needed. The refit uses the torque rows only, 
 asks whether any values of the effects make the torque without it. On the rows of the effects' whole fit,
 the force rows of a force-sensor bias pin its gain to the force data, and a force-sensor form unlike the
 catalog's then leaves its load-torque share to the scale (tried: it turned a blind catalog pair of a
-clearance growth and a force-sensor bias `unexplained` at -4.0 % +- 0.5 %; torque rows only: -2.6 % +- 1.1
-%, p = 0.13). Measured on the 157 foreign recordings whose verdict's model had an efficiency or a
-force-sensor bias (24 stored case sets and the two blind draws of this change): the 8 torque-constant losses
-read with an efficiency read g = -4.9 to -14.1 % and count; refitting with the owner's parameters alone
-counted 4 of them (the others kept a Stribeck, preload or load friction term that had taken the rest); none
-of the others counts (efficiency and force-sensor effects, pairs, three torque ripples; the largest, a
-clearance growth with a force-sensor bias at -5.2 % +- 1.7 % and thermally drifting force sensors at -4.2 %
-+- 1.4 % and -3.7 % +- 0.8 %, have held-out p of 0.16, 0.09 and 0.6). On diag_synth a 15 % loss read as an
-efficiency reads -4.1 to -4.8 % (a third: the inertia and friction entries of the budget keep their share),
-a 10 % loss -2.4 to -2.6 %, not beyond the bound with 95 % confidence: the blind spot is narrowed, not
-closed.
+clearance growth and a force-sensor bias `unexplained` at -4.0 % ± 0.5 %; torque rows only: -2.6 % ± 1.1 %,
+p = 0.13). Measured on the 157 foreign recordings whose verdict's model had an efficiency or a force-sensor
+bias (24 stored case sets and the two blind draws of this change): the 8 torque-constant losses read with an
+efficiency read g = -4.9 to -14.1 % and count; refitting with the owner's parameters alone counted 4 of them
+(the others kept a Stribeck, preload or load friction term that had taken the rest); none of the others
+counts (efficiency and force-sensor effects, pairs, three torque ripples; the largest, a clearance growth
+with a force-sensor bias at -5.2 % ± 1.7 % and thermally drifting force sensors at -4.2 % ± 1.4 % and
+-3.7 % ± 0.8 %, have held-out p of 0.16, 0.09 and 0.6). On diag_synth a 15 % loss read as an efficiency
+reads -4.1 to -4.8 % (a third: the inertia and friction entries of the budget keep their share), a 10 % loss
+-2.4 to -2.6 %, not beyond the bound with 95 % confidence: the blind spot is narrowed, not closed.
 
 **Level.**  The test runs at ``ALPHA`` on ``effect`` and ``none`` verdicts beside the screw-position
 harmonic (:mod:`.openset`), the band test at rest (:mod:`.stick`) and, on a clearance growth, the
