@@ -184,7 +184,7 @@ from ebm_wear_monitor.diagnosis.residuals import (
     kinetic_friction,
     moves,
 )
-from ebm_wear_monitor.diagnosis.scale import ENTRY, TorqueScale, budget_bound, entry_index, torque_scale
+from ebm_wear_monitor.diagnosis.scale import TorqueScale, budget_bound, entry_index, torque_scale
 from ebm_wear_monitor.diagnosis.stick import RestTorque, rest_torque
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
@@ -620,6 +620,14 @@ def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, .
     return ~own & ~moved, own
 
 
+def difference_step(x: float, unit: float, upper: float) -> float:
+    """Forward-difference step at ``x`` for a quantity of typical magnitude ``unit``: 1e-3 of the larger
+    of the two, taken backward where it would cross the ``upper`` bound (the solver's Jacobian,
+    :func:`fit`, and the scale test's refit, :func:`owner_columns`)."""
+    h = 1e-3 * max(unit, abs(x))
+    return -h if x + h > upper else h
+
+
 def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, float], ...] = (), *,
         mask: np.ndarray | None = None, only_effect: bool = False, search: bool = False) -> Fit:
     """Fit ``effect`` with its channels' nuisances and the free tolerances on the calibration cycles.
@@ -676,9 +684,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
         z0 = nonlinear(u)
         cols = []
         for i in range(k + m):
-            h = 1e-3 * max(1.0, abs(u[i]))
-            if u[i] + h > hi[i] / scale[i]:
-                h = -h
+            h = difference_step(float(u[i]), 1.0, float(hi[i] / scale[i]))
             v = u.copy()
             v[i] += h
             cols.append((sc.z_raw(to_model(v).aug, mask, seen) + fixed_part - z0) / h)
@@ -1220,35 +1226,34 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
 def motor_scale(sc: Scorer, m: Model, f: EffectFit | None = None) -> TorqueScale | None:
     """The motor torque's scale ``m`` leaves on the moving blocks' torque rows, against the budget's bound
     (:mod:`.scale`).  ``f``: the verdict's effects, when ``m`` is their fit; where one of them owns the
-    scale's entry, c is refitted with their parameters on the same rows (:func:`owner_columns`)."""
+    scale's entry (it is then no tolerance, :func:`.tolerance.free`), c is refitted with their parameters
+    on the same rows (:func:`owner_columns`)."""
     b, i = sc.model.blocks, entry_index()
     moving = b.moving
-    owns = f is not None and any(ENTRY in tolerance.OWN.get(p, ()) for p in f.effect.name.split("+"))
-    return torque_scale(sc.z(m, moving, ("torque",)), sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
+    z = sc.z(m, moving, ("torque",))
+    owned = f is not None and not tolerance.free(f.effect.name.split("+"))[i]
+    return torque_scale(z, sc.D[sc.rows(moving, ("torque",)), i], float(m.t[i]),
                         bound=budget_bound(sc.model.nominal), cycles=b.cycle[moving],
                         calibration=sc.split.calibration[moving], heldout=sc.split.heldout[moving],
-                        owner=owner_columns(sc, f) if f is not None and owns else None)
+                        owner=owner_columns(sc, f, z) if f is not None and owned else None)
 
 
-def owner_columns(sc: Scorer, f: EffectFit) -> np.ndarray | None:
-    """dz/d(theta) on the moving blocks' torque rows of every parameter of ``f``'s effects that its fit
-    left free, by forward differences at the fit (the step of :func:`fit`'s Jacobian, taken backward at
-    an upper bound): where one of them owns the scale's budget entry (:data:`.tolerance.OWN`: an
-    efficiency variation, a force-sensor bias), the entry was held at zero while all of them were fitted,
-    so each took what it could of a scale (:mod:`.scale`, "Owner").  The torque rows only: the scale acts
-    there, and the question is whether any values of the effects make the torque without it.  A parameter
-    on a bound of its box (within 1e-3 of its scale) is held there, as the solver held it; None when none
-    is free."""
+def owner_columns(sc: Scorer, f: EffectFit, z0: np.ndarray) -> np.ndarray | None:
+    """dz/d(theta) on the moving blocks' torque rows (``z0``: z there at the fit) of every parameter of
+    ``f``'s effects that its fit left free, by forward differences at the fit (:func:`difference_step`):
+    where one of them owns the scale's budget entry (:data:`.tolerance.OWN`: an efficiency variation, a
+    force-sensor bias), the entry was held at zero while all of them were fitted, so each took what it
+    could of a scale (:mod:`.scale`, "Owner").  The torque rows only: the scale acts there, and the
+    question is whether any values of the effects make the torque without it.  A parameter on a bound of
+    its box (within 1e-3 of its scale) is held there, as the solver held it; None when none is free."""
     lo, hi = f.effect.bounds()
     scale = np.abs(np.asarray(f.effect.scale, dtype=float))
     free = (f.theta - lo > 1e-3 * scale) & (hi - f.theta > 1e-3 * scale)
     moving = sc.model.blocks.moving
-    z0 = sc.z(f.model, moving, ("torque",))
     cols = []
     for j in np.flatnonzero(free):
-        step = 1e-3 * max(scale[j], abs(float(f.theta[j])))
-        step = -step if f.theta[j] + step > hi[j] else step
         theta = f.theta.copy()
+        step = difference_step(float(theta[j]), float(scale[j]), float(hi[j]))
         theta[j] += step
         aug = _merge(f.model.aug, f.effect.to_augment(theta), {})
         col = (sc.z(dataclasses.replace(f.model, aug=aug), moving, ("torque",)) - z0) / step

@@ -93,46 +93,37 @@ def _effect_scale(sc: Scorer, name: str, owned: bool):
     return motor_scale(sc, f.model, f if owned else None)
 
 
-def _efficiency_scale(sc: Scorer, owned: bool):
-    return _effect_scale(sc, "efficiency_variation", owned)
-
-
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_an_efficiency_does_not_hide_a_torque_constant_loss(seed):
     # a 15 % loss read as an efficiency variation, which holds the scale's entry at zero and takes the
     # loss's share of the load torque: held at its fit, the scale left is inside the bound (the blind spot
     # of the test before c was refitted with the effects' parameters); refitted with them, the data want a
-    # scale beyond it, from the inertia torque and the release's load torque (which an efficiency lowers
-    # and the loss raises). The other entries of the budget keep absorbing their share, so the scale found
-    # is about a third of the loss (-4.1 to -4.8 % here; a 10 % loss reads -2.4 to -2.6 %, not beyond the
-    # bound with 95 % confidence)
+    # scale beyond the bound and no larger than the loss, from the inertia torque and the release's load
+    # torque (which an efficiency lowers and the loss raises). The other entries of the budget keep
+    # absorbing their share, so the scale found is about a third of the loss (-4.1 to -4.8 % here; a 10 %
+    # loss reads -2.4 to -2.6 %, not beyond the bound with 95 % confidence)
     loss = 0.15
     sc = scorer(loss, seed)
-    held = _efficiency_scale(sc, owned=False)
+    held = _effect_scale(sc, "efficiency_variation", owned=False)
     assert held is not None and not held.counts(ALPHA), held
-    res = _efficiency_scale(sc, owned=True)
+    res = _effect_scale(sc, "efficiency_variation", owned=True)
     assert res is not None and res.fitted == 0.0 and res.counts(ALPHA), res
-    assert -loss < res.gain < held.gain - held.gain_std, (res, held)
+    assert -loss - 3.0 * res.gain_std < res.gain < -0.02 - 1.645 * res.gain_std, res
 
 
-@pytest.mark.parametrize("seed", [0, 1])
-def test_an_efficiency_variation_is_not_read_as_a_scale(seed):
-    # the catalog's own effect (loss factor +0.05 at standstill, rising 1e-3 per rad/s: the ranking test's)
-    # and no loss: refitted with the efficiency's parameters, the scale stays inside the bound
-    rec = synth(NOM, Augment(eff_base=0.05, eff_speed=1e-3), cycles=CYCLES, seed=seed)
+@pytest.mark.parametrize(("name", "aug"), [("efficiency_variation", Augment(eff_base=0.05, eff_speed=1e-3)),
+                                           ("force_sensor_bias", Augment(force_gain=0.04))])
+@pytest.mark.parametrize("drive_gain", [0.0, -0.015, 0.015])
+def test_an_owner_with_a_scale_inside_the_tolerance_is_not_read_as_a_loss(name, aug, drive_gain):
+    # the catalog's own effect that owns the entry (the ranking test's efficiency; a +4 % force-sensor gain)
+    # with K_T x current gain off by at most 1.5 %, inside the +-2 % bound: refitted with the effect's
+    # parameters, which take nothing of the inertia torque, the scale does not count. The refit removes
+    # the part of the entry's response the effect makes, so it amplifies noise where little is left;
+    # this is the false positive it could make
+    rec = synth(NOM, aug, cycles=CYCLES, seed=0, drive_gain=drive_gain)
     sensors = Scorer.sensors(residual_model(rec, NOM))
-    res = _efficiency_scale(sensors.scaled(sensors.noise_scale()), owned=True)
-    assert res is not None and not res.counts(ALPHA) and abs(res.gain) < 0.02, res
-
-
-@pytest.mark.parametrize("seed", [0, 1])
-def test_a_force_sensor_gain_is_not_read_as_a_scale(seed):
-    # the catalog's force-sensor gain (+4 %) and no loss: refitted with the gain on the torque rows, the
-    # scale stays inside the bound (the gain moves the load torque only, never the inertia torque)
-    rec = synth(NOM, Augment(force_gain=0.04), cycles=CYCLES, seed=seed)
-    sensors = Scorer.sensors(residual_model(rec, NOM))
-    res = _effect_scale(sensors.scaled(sensors.noise_scale()), "force_sensor_bias", owned=True)
-    assert res is not None and not res.counts(ALPHA) and abs(res.gain) < 0.02, res
+    res = _effect_scale(sensors.scaled(sensors.noise_scale()), name, owned=True)
+    assert res is not None and not res.counts(ALPHA), res
 
 
 def test_the_refit_is_the_joint_least_squares_fit():
