@@ -67,6 +67,16 @@ i_g^2 + r_g^2 m_n of eq. 2 (0.03 % of J_me for the unit of 004 Table 1), a share
 left out of d's closed form. A play crossed while the motor accelerates from rest (at the start of an
 application) is not used: there the inertia torque, 004 eq. 1, dwarfs the friction (tried on foreign
 plays at 200-250 Hz, where that crossing holds 3-4 samples: deficits of both signs, up to 1.5 N m).
+Two formulations for 200-250 Hz were tried and not kept (2026-11-28). *Intervals*: each sampling interval
+of the free release over P and Q, its residual regressed on the share of its travel inside P within
+its crossing (a crossing counts when its intervals' shares differ by 1/2), the slope clustered by
+crossing; on diag_synth's 40 µm play (closed form about 0.2 N m) it read 0.025-0.096 N m at 200 Hz,
+decided on 0 of 4 seeds (1 of 4 at 250 Hz), and on three foreign plays at 200-250 Hz 0.049 ± 0.009,
+-0.085 ± 0.040 and 0.020 ± 0.014 N m, none decided: the speed at the window's ends, fitted over two
+samples either side, smears the pick-up of the screw into both windows. *P and Q together against
+the next window of their length*: on four foreign plays +0.31 ± 0.02, +0.34 ± 0.02, -0.18 ± 0.02 and
+-0.14 ± 0.01 N m, a contrast of both signs from the release's own motion at that rate, so a clearance
+could read either way too.
 
 **Level.**  The test runs at ``ALPHA`` beside the screw-position harmonic, the motor torque's scale
 and the band test at rest (:mod:`.ranking`), so on a clearance-growth verdict the four routes to

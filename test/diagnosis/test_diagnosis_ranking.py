@@ -135,6 +135,24 @@ def test_deviation_within_the_budget_is_not_material():
     assert r.verdict == "none", [(f.effect.name, f.size, f.floor) for f in r.fits[:3]]
 
 
+@pytest.mark.parametrize("gain", [0.03, 0.07, -0.07])
+def test_the_force_channels_materiality_is_the_gain_the_budget_leaves(gain):
+    # a load-cell gain error g. In the force channel the budget takes a gain of up to 1.03 x 1.01 (K_b +-3 %,
+    # the load cell +-1 %; 0.97 x 0.99 below), so the twin within its tolerance leaves at most the excess
+    # (1 + g) / 1.0403 - 1 as a share of the clamp force. Within the budget (3 %) nothing material is left;
+    # 7 % leaves up to 2.9 %, of which the clearance entry (+-5 um of nut travel, an offset) takes a part:
+    # above the channel's 1 % bound
+    sc, _ = scorer(Augment(force_gain=gain), cycles=16)
+    share = sc.unexplained_share(sc.base)["force"]
+    absorbed = (1.03 * 1.01) if gain > 0 else (0.97 * 0.99)
+    excess = max(0.0, abs((1.0 + gain) / absorbed - 1.0))
+    assert share <= excess + 2e-3, (share, excess)
+    material = share > tolerance.MATERIAL_SHARE["force"]
+    assert material is (excess > 2.0 * tolerance.MATERIAL_SHARE["force"]), (share, excess)
+    if material:
+        assert share > 0.5 * excess, (share, excess)
+
+
 def test_two_effects_are_both_named():
     sc, model = scorer(Augment(clearance=4e-5, dG=1.2e-5), seed=6, cycles=12)
     r = rank(sc, catalog(model))
