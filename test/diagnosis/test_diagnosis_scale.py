@@ -126,6 +126,25 @@ def test_an_owner_with_a_scale_inside_the_tolerance_is_not_read_as_a_loss(name, 
     assert res is not None and not res.counts(ALPHA), res
 
 
+def test_rank_refits_the_scale_with_the_selected_owner():
+    # through rank(): a unit whose efficiency differs (the ranking test's efficiency variation) with K_T x
+    # current gain as nominal. The efficiency is selected, owns the scale's entry (held at zero in its
+    # fit), and the verdict's scale test is the one refitted with its parameters, not the one held at them:
+    # a catalog efficiency is not read as a loss either way
+    rec = synth(NOM, Augment(eff_base=0.05, eff_speed=1e-3), cycles=CYCLES, seed=2)
+    sensors = Scorer.sensors(residual_model(rec, NOM))
+    sc = sensors.scaled(sensors.noise_scale())
+    r = rank(sc, build_catalog(NOM, float(sc.model.speed.max()), float(sc.model.force.max())))
+    assert [f.effect.name for f in r.selected] == ["efficiency_variation"] and r.joint is not None
+    assert r.verdict == "effect" and r.scale is not None and r.scale.fitted == 0.0
+    refit = motor_scale(sc, r.joint.model, r.joint)
+    held = motor_scale(sc, r.joint.model)
+    assert refit is not None and held is not None
+    assert r.scale.gain == refit.gain and r.scale.gain_std == refit.gain_std
+    assert held.gain_std < refit.gain_std  # the refit spends the effect's freedom: a wider error
+    assert not r.scale.counts(ALPHA)
+
+
 def test_the_refit_is_the_joint_least_squares_fit():
     # c fitted on the part of d the owner's columns J cannot make equals the coefficient of d in the least
     # squares fit of -z by [d, J] together (Frisch-Waugh-Lovell), on the calibration rows; the held-out
