@@ -243,3 +243,31 @@ def test_any_topic_can_be_the_time_base_and_chunking_does_not_matter(unit, base)
     assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
     assert out[0][2] == out[1][2]
     assert out[0][0].size >= times[base].size - 2
+
+
+
+@pytest.mark.parametrize("stale_s", [0.5, 2.0])
+def test_a_topic_lagging_beyond_stale_after_s_stops_holding_the_others(unit, stale_s):
+    # the velocity stalls after 1.0 s of stamps while angle and force go on to 4.0 s, in 0.5 s chunks. While
+    # its lag is within stale_after_s the aligner waits (nothing missing yet); beyond, its floor is raised to
+    # the others' (newest - reorder_window_s) and every force stamp from its last sample up to there is
+    # 'missing' for it; when its old samples then arrive, those below that floor are 'late'
+    cfg = MonitorConfig(stale_after_s=stale_s)
+    al = InputAligner(cfg, cfg.resolve(unit))
+    t = 100.0 + np.arange(4000) * 1e-3
+    zeros = np.zeros(t.size)
+    stop = 1000  # samples the velocity sends before it stalls
+    al.add("velocity", t[:stop], zeros[:stop])
+    for end in range(500, t.size + 1, 500):
+        for s in ("angle", "axial_force"):
+            al.add(s, t[end - 500:end], zeros[end - 500:end])
+        al.release()
+        if t[end - 1] - t[stop - 1] <= stale_s:
+            assert al.faults["velocity"].get("missing", 0) == 0, end
+    floor = t[-1] - cfg.reorder_window_s  # the others' floor once the last chunk is in [s]
+    behind = int(np.count_nonzero((t >= t[stop]) & (t < floor - 1e-9)))  # 2799 force stamps, 1 kHz
+    assert al.faults["velocity"]["missing"] == behind
+    al.add("velocity", t[stop:], zeros[stop:])  # the stalled topic comes back with its old samples
+    al.release(final=True)
+    assert al.faults["velocity"]["late"] == behind
+    assert al.faults["angle"] == {} and al.faults["axial_force"] == {}
