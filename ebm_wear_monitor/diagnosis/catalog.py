@@ -81,6 +81,9 @@ from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.schema.diagnose import Magnitude
 from ebm_wear_monitor.twin.dynamics import ActuatorModel
 
+#: a fitted parameter within this share of its scale of a bound is on it (:meth:`Effect.on_bound`)
+ON_BOUND = 1e-3
+
 
 @dataclass(frozen=True)
 class Effect:
@@ -120,11 +123,20 @@ class Effect:
         return np.asarray(lo, dtype=float), np.asarray(_or_open(self.upper, self.k, np.inf), dtype=float)
 
     def at_limit(self, theta: np.ndarray) -> bool:
-        """A parameter sits on its physical limit (within 1e-3 of its scale): the data want more than
-        the effect can physically give (module docstring, "Limits")."""
+        """A parameter sits on its physical limit (within ``ON_BOUND`` of its scale): the data want more
+        than the effect can physically give (module docstring, "Limits")."""
         if self.limits is None:
             return False
-        return bool(np.any(np.asarray(theta) - np.asarray(self.limits) <= 1e-3 * np.asarray(self.scale)))
+        return bool(np.any(np.asarray(theta) - np.asarray(self.limits) <= ON_BOUND * np.asarray(self.scale)))
+
+    def on_bound(self, theta: np.ndarray) -> np.ndarray:
+        """Per parameter: it sits on a bound of the fit's box (:meth:`bounds`, within ``ON_BOUND`` of its
+        scale), where the solver held it."""
+        lo, hi = self.bounds()
+        tol = ON_BOUND * np.abs(np.asarray(self.scale, dtype=float))
+        theta = np.asarray(theta, dtype=float)
+        on: np.ndarray = (theta - lo <= tol) | (hi - theta <= tol)
+        return on
 
     def magnitude(self, theta: np.ndarray, stderr: np.ndarray) -> dict[str, Magnitude]:
         """Parameters in physical units, each also as a fraction of the nominal quantity it changes."""

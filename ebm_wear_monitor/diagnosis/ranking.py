@@ -1245,13 +1245,13 @@ def owner_columns(sc: Scorer, f: EffectFit, z0: np.ndarray) -> np.ndarray | None
     force-sensor bias), the entry was held at zero while all of them were fitted, so each took what it
     could of a scale (:mod:`.scale`, "Owner").  The torque rows only: the scale acts there, and the
     question is whether any values of the effects make the torque without it.  A parameter on a bound of
-    its box (within 1e-3 of its scale) is held there, as the solver held it; None when none is free."""
-    lo, hi = f.effect.bounds()
+    its box (:meth:`.catalog.Effect.on_bound`) is held there, as the solver held it; None when none is
+    free."""
+    hi = f.effect.bounds()[1]
     scale = np.abs(np.asarray(f.effect.scale, dtype=float))
-    free = (f.theta - lo > 1e-3 * scale) & (hi - f.theta > 1e-3 * scale)
     moving = sc.model.blocks.moving
     cols = []
-    for j in np.flatnonzero(free):
+    for j in np.flatnonzero(~f.effect.on_bound(f.theta)):
         theta = f.theta.copy()
         step = difference_step(float(theta[j]), float(scale[j]), float(hi[j]))
         theta[j] += step
