@@ -59,8 +59,15 @@ data as a catalog effect, so the diagnosis names the effect and says what else i
 
 **Limits.**  Parameters that would make the twin unphysical are out of reach of the fit: 004 eq. 9's
 friction stays dissipative (B + dB >= 0, G + dG >= 0, T_fc + dT >= 0: a negative coefficient would
-drive the motion it opposes), the clearance of eq. 5 is not negative (x_ag + dx >= 0) and the clamp's
-tangent stiffness stays positive up to the largest recorded force (K_b + 2 k_2 d_max >= 0).  An effect
+drive the motion it opposes), a clearance growth only widens the clearance of eq. 5 (dx >= 0) and the
+clamp's tangent stiffness stays positive up to the largest recorded force (K_b + 2 k_2 d_max >= 0).  The
+clearance's limit is the effect's definition (interface.md section 4: "axial clearance larger than
+nominal", the wear of balls and raceways, which removes material and never closes the gap): a contact
+reached after less travel than the unit file's x_ag is no wear (an ECU that parks the nut closer to the
+pads than the unit file says, a thicker pad), and naming it as this effect would report a wear of
+minus some micrometres (a third, independently written world's healthy units, whose force loop parks
+within its angle tolerance short of its rest target, read -7.5 and -8.4 um of "clearance growth"
+before this limit; README "Third world").  An effect
 whose fit sits on such a limit is not named (:attr:`.ranking.EffectFit.nameable`): the data want more
 of it than it can physically give, so its form is not what they show (a friction that falls only at
 low load, a preload relieved by the load, was read as a viscous drag of -230 % of B: a negative B).
@@ -201,7 +208,7 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
                size_meaning="tangent-stiffness change at the largest recorded force, fraction of K_b",
                nominal=(None,)),
         Effect("clearance_growth", "axial clearance larger than nominal (wear)", ("dx",), ("m",),
-               lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), limits=(-x_ag,),
+               lambda p: Augment(clearance=p[0]), (0.1 * x_ag,), ((0.0,),), limits=(0.0,),
                channels=("force",),
                size_unit="m", size_meaning="extra clearance", nominal=(("x_ag", x_ag),),
                look_alike="a play of the same size between the motor and the screw, if the angle is "

@@ -537,7 +537,7 @@ def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_
     assert cat["viscous_friction"].limits == (-f.viscous,)
     assert cat["load_friction"].limits == (-f.load_coefficient,)
     assert cat["preload_change"].limits == (-f.coulomb,)
-    assert cat["clearance_growth"].limits == (-NOM.clamp.clearance,)
+    assert cat["clearance_growth"].limits == (0.0,)  # wear only widens the clearance
     r = rank(sc, cat)
     viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
     assert viscous.theta[0] == pytest.approx(-f.viscous, rel=1e-3)  # on the limit, not beyond
@@ -551,6 +551,22 @@ def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_
     refit = fit(sc, friction_refit(NOM), sc.base)
     assert refit.theta[1] == pytest.approx(-f.viscous, rel=1e-3)
 
+
+
+def test_a_clearance_smaller_than_the_unit_file_is_no_clearance_growth():
+    """The contact reached 15 um earlier than the unit file's x_ag (an ECU parking the nut closer to the
+    pads, a thicker pad): the effect is wear (interface.md: "axial clearance larger than nominal"), so its
+    fit stops at dx = 0 and, on that limit, it is not named; the same data with the clearance 15 um
+    larger name it, with its size."""
+    sc, model = scorer(Augment(clearance=-1.5e-5), seed=3, cycles=12)
+    r = rank(sc, catalog(model))
+    growth = next(e for e in r.fits if e.effect.name == "clearance_growth")
+    assert growth.theta[0] == pytest.approx(0.0, abs=1e-9) and growth.at_limit and not growth.nameable
+    assert "clearance_growth" not in [e.effect.name for e in r.selected]
+    sc, model = scorer(Augment(clearance=1.5e-5), seed=3, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect" and r.effect is not None and r.effect.effect.name == "clearance_growth"
+    assert r.effect.theta[0] == pytest.approx(1.5e-5, abs=4.0 * r.effect.stderr[0] + 5e-7)
 
 def test_a_foreign_load_relieved_preload_is_not_read_as_a_negative_viscous_drag(tmp_path):
     """The kind of miss that prompted the limits, from the independently written foreign generator: a
