@@ -13,6 +13,14 @@ generator) with both confusion matrices and the issue's targets (``--jobs`` proc
     .venv/bin/python bench/bench_diagnose.py [--seconds 60]
     .venv/bin/python bench/bench_diagnose.py --selftest [--jobs 2] [--json OUT]
     .venv/bin/python bench/bench_diagnose.py --foreign-set full_b|full_c|outside [--jobs 2] [--json OUT]
+    .venv/bin/python bench/bench_diagnose.py --third-world SEED [--bags DIR] [--jobs 2] [--json OUT]
+
+``--third-world SEED``: the 36 recordings of a third world (:mod:`ebm_wear_monitor.validation.third`,
+written independently of the twin, the diagnosis and the foreign generator) drawn from SEED, written to
+DIR (default a temporary directory; an existing DIR with ``<case>/truth.json`` is read as it is) and
+scored like the foreign set (:func:`ebm_wear_monitor.diagnosis.foreign_selftest.run_third`); the
+confusion matrix is printed. Seed 3 was first run blind with c25210c; seeds 4 and 5
+were registered before their first run (README "Third world").
 """
 
 from __future__ import annotations
@@ -74,6 +82,15 @@ def speed(seconds: float) -> None:
           f"   target < 10 s on one core: {'met' if c_diag < 10.0 else 'NOT met'}")
 
 
+def _targets(f, wall: float, title: str) -> None:
+    print(f"\n{title} targets ({wall:.0f} s wall):")
+    for key, target in TARGETS.items():
+        value = getattr(f, key)
+        ok = value is not None and (value <= target if key in AT_MOST else value >= target)
+        print(f"  {key:26s} {value if value is None else round(value, 3)!s:>8s}   target "
+              f"{'<=' if key in AT_MOST else '>='} {target:.3g}   {'met' if ok else 'NOT met'}")
+
+
 def selftest(jobs: int, out: str | None, foreign_set: str | None) -> None:
     from ebm_wear_monitor.diagnosis.foreign_selftest import run_foreign
     from ebm_wear_monitor.diagnosis.selftest import format_summary, run_selftest
@@ -86,14 +103,25 @@ def selftest(jobs: int, out: str | None, foreign_set: str | None) -> None:
         print(format_summary(result))
         f = result.foreign
     assert f is not None  # run with the foreign world
-    print(f"\nforeign targets ({wall:.0f} s wall):")
-    for key, target in TARGETS.items():
-        value = getattr(f, key)
-        ok = value is not None and (value <= target if key in AT_MOST else value >= target)
-        print(f"  {key:26s} {value if value is None else round(value, 3)!s:>8s}   target "
-              f"{'<=' if key in AT_MOST else '>='} {target:.3g}   {'met' if ok else 'NOT met'}")
+    _targets(f, wall, "foreign")
     if out:
         Path(out).write_text(json.dumps(result.to_json_dict(), indent=1), encoding="utf-8")
+
+
+def third_world(seed: int, bags: str | None, jobs: int, out: str | None) -> None:
+    from ebm_wear_monitor.diagnosis.foreign_selftest import run_third
+    from ebm_wear_monitor.diagnosis.selftest import confusion_lines
+    from ebm_wear_monitor.validation.third.__main__ import main as write_world
+
+    with tempfile.TemporaryDirectory(prefix="ebm-third-") as tmp:
+        where = Path(bags or tmp)
+        if not any(where.glob("*/truth.json")):
+            write_world(["write", "--out", str(where), "--seed", str(seed), "--jobs", str(jobs)])
+        f = run_third(where, jobs=jobs)
+    print("\n".join(confusion_lines(f.confusion)))
+    _targets(f, f.seconds, f"third world (seed {seed})")
+    if out:
+        Path(out).write_text(json.dumps(f.to_json_dict(), indent=1), encoding="utf-8")
 
 
 def main() -> None:
@@ -105,8 +133,13 @@ def main() -> None:
     ap.add_argument("--foreign-set", choices=DIAGNOSIS_SETS,
                     help="self-test of the foreign world only, on this case set (full_b, full_c: the full "
                          "set's second and third draws, other seeds; outside: 40 cases outside the catalog)")
+    ap.add_argument("--third-world", type=int, metavar="SEED",
+                    help="the third world's 36 recordings drawn from SEED, scored like the foreign set")
+    ap.add_argument("--bags", help="third world: write the recordings here (or read them if present)")
     args = ap.parse_args()
-    if args.selftest or args.foreign_set:
+    if args.third_world is not None:
+        third_world(args.third_world, args.bags, args.jobs, args.json)
+    elif args.selftest or args.foreign_set:
         selftest(args.jobs, args.json, args.foreign_set)
     else:
         speed(args.seconds)

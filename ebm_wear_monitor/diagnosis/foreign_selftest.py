@@ -63,20 +63,40 @@ def _truth(bag: Path) -> dict:
 
 def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> ForeignCaseResult:
     """Write one foreign case as a bag, diagnose it from disk, and score the answer against its truth."""
-    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
-    from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
     from ebm_wear_monitor.validation.foreign import write_case
 
-    unit = load_unit() if unit is None else unit
     t0 = time.perf_counter()
     bag = Path(write_case(case, Path(workdir)))
-    truth = _truth(bag)
+    return diagnose_bag(bag, _truth(bag), unit, bag.name, t0)
+
+
+def third_truth(case_dir: Path) -> dict:
+    """The third world's ``truth.json`` (:mod:`ebm_wear_monitor.validation.third`) in the scorer's terms:
+    one effect per recording, a catalog effect (``kind`` ``effect``) or one outside the catalog."""
+    gt = json.loads((case_dir / "truth.json").read_text(encoding="utf-8"))
+    effect, kind = gt.get("effect"), gt["kind"]
+    return {"unit": None, "kind": kind, "truth": [effect] if kind == "effect" else [],
+            "relative_change": {effect: gt.get("magnitude")} if kind == "effect" else {},
+            "outside": [effect] if kind == "outside" else []}
+
+
+def diagnose_bag(bag: Path, truth: dict, unit: UnitParams | None = None, name: str | None = None,
+                 t0: float | None = None) -> ForeignCaseResult:
+    """Diagnose one bag from disk against the nominal unit file (or ``unit``) and score the answer
+    against ``truth`` (keys of :func:`_truth`; ``unit`` None: the bag's only unit)."""
+    from ebm_wear_monitor.diagnosis.bags import recordings_from_bags
+    from ebm_wear_monitor.diagnosis.pipeline import diagnose_recording
+
+    unit = load_unit() if unit is None else unit
+    t0 = time.perf_counter() if t0 is None else t0
+    name = bag.name if name is None else name
     try:
-        rec = recordings_from_bags([bag])[truth["unit"]].recording
+        units = recordings_from_bags([bag])
+        rec = (units[truth["unit"]] if truth["unit"] is not None else next(iter(units.values()))).recording
         res = diagnose_recording(rec, unit)
     except InputError as exc:  # a recording the diagnosis refuses is a failed case, not an aborted test
         return ForeignCaseResult(
-            case=bag.name, kind=truth["kind"], true="+".join(truth["truth"]) or truth["kind"],
+            case=name, kind=truth["kind"], true="+".join(truth["truth"]) or truth["kind"],
             effects_true=truth["truth"], relative_change=truth["relative_change"],
             verdict="error", diagnosed="error", error=str(exc), effects=[], top2=[],
             gap_before=0.0, gap_after=0.0, shrink=0.0, top1_ok=False, top2_ok=False,
@@ -85,8 +105,8 @@ def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> F
     expected = set(truth["truth"])
     kind = truth["kind"]
     return ForeignCaseResult(
-        case=bag.name, kind=kind, true="+".join(truth["truth"]) or ("none" if kind == "none"
-                                                                    else "+".join(truth["outside"])),
+        case=name, kind=kind, true="+".join(truth["truth"]) or ("none" if kind == "none"
+                                                                else "+".join(truth["outside"])),
         effects_true=truth["truth"], relative_change=truth["relative_change"],
         verdict=res.verdict, diagnosed=(res.effect if res.verdict == "effect" else None) or res.verdict,
         error=None, effects=res.effects, top2=ranked[:2],
@@ -96,6 +116,29 @@ def diagnose_case(case: Case, workdir: str, unit: UnitParams | None = None) -> F
         pair_ok=kind == "pair" and set(res.effects) == expected,
         where=[res.where.phase, res.where.signal],
         seconds=time.perf_counter() - t0)
+
+
+def _third_case(case_dir: str, unit: UnitParams | None) -> ForeignCaseResult:
+    d = Path(case_dir)
+    return diagnose_bag(d / "bag", third_truth(d), unit, d.name)
+
+
+def run_third(bags: Path, jobs: int = 1, unit: UnitParams | None = None,
+              on_case: Callable[[int, int], object] | None = None) -> ForeignSelftest:
+    """Score the diagnosis on the recordings of the third world written to ``bags``
+    (``python -m ebm_wear_monitor.validation.third write --out BAGS``: ``BAGS/<case>/bag`` and
+    ``BAGS/<case>/truth.json``), with the foreign self-test's scores (:func:`score`)."""
+    dirs = sorted(str(p) for p in bags.iterdir() if (p / "truth.json").is_file())
+    if not dirs:
+        raise InputError(f"no third-world recordings (<case>/truth.json) under {bags}")
+    rows: list[ForeignCaseResult] = []
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(jobs) as pool:
+        for row in pool.map(_third_case, dirs, [unit] * len(dirs)):
+            rows.append(row)
+            if on_case is not None:
+                on_case(len(rows), len(dirs))
+    return score(rows, time.perf_counter() - t0)
 
 
 def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1,

@@ -1,0 +1,1 @@
+"""Third, independent validation world for the sim-to-real diagnosis (see README.md)."""
