@@ -87,8 +87,9 @@ def _targets(f, wall: float, title: str) -> None:
     for key, target in TARGETS.items():
         value = getattr(f, key)
         ok = value is not None and (value <= target if key in AT_MOST else value >= target)
+        verdict = "n/a (no such case)" if value is None else "met" if ok else "NOT met"
         print(f"  {key:26s} {value if value is None else round(value, 3)!s:>8s}   target "
-              f"{'<=' if key in AT_MOST else '>='} {target:.3g}   {'met' if ok else 'NOT met'}")
+              f"{'<=' if key in AT_MOST else '>='} {target:.3g}   {verdict}")
 
 
 def selftest(jobs: int, out: str | None, foreign_set: str | None) -> None:

@@ -330,11 +330,12 @@ def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():
     assert pair.score > first.score and improvement_p(first.z_heldout, pair.z_heldout) < 0.05 / 7
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "a known regression since 687984d: since a phase's lag-2 noise estimate needs 12 differences "
-    "(ranking.QUIET_DIFFS), the torque noise scale of this closed-form pair is larger and the viscous "
-    "addition no longer passes its test; with the estimate from fewer differences it is named "
-    "(measured by toggling that rule alone), the foreign pairs both named went 89 -> 90 of 110"))
+@pytest.mark.xfail(strict=False, reason=(
+    "machine-dependent since 687984d: a phase's lag-2 noise estimate needs 12 differences "
+    "(ranking.QUIET_DIFFS), a count at its edge for this closed-form pair; where the torque noise scale "
+    "comes out larger the viscous addition misses its test (the fresh-clone CI machine of c25210c: "
+    "xfailed), elsewhere it passes (the machine of be722b5, at c25210c and after: p = 0.0031 against "
+    "0.05 / 7)"))
 def test_effects_in_different_channels_are_both_named():
     from ebm_wear_monitor.diagnosis.ranking import without_own
 
