@@ -76,6 +76,11 @@ def draw_magnitude(name: str, rng: np.random.Generator, half: int, sign: int) ->
     return round(s * (sign if signed else 1), 4)
 
 
+#: effects that are one magnitude of the plant's modifiers (:class:`.plant.Modifiers`): effect -> field
+_PLANT_SCALE = {"viscous_friction": "visc_s", "load_friction": "load_s", "efficiency_variation": "eff_s",
+                "preload_change": "pre_s", "stribeck": "strib_s", "stiffness_nonlinearity": "stiff_s"}
+
+
 def realise(
     name: str | None, s: float, nom: Nominal, *, n_app: int, T_rec: float, rng: np.random.Generator
 ) -> Realised:
@@ -84,18 +89,8 @@ def realise(
     gain, x_c, detail = 1.0, [nom.x_ag] * n_app, {}
     if name is None:
         pass
-    elif name == "viscous_friction":
-        m.visc_s = s
-    elif name == "load_friction":
-        m.load_s = s
-    elif name == "efficiency_variation":
-        m.eff_s = s
-    elif name == "preload_change":
-        m.pre_s = s
-    elif name == "stribeck":
-        m.strib_s = s
-    elif name == "stiffness_nonlinearity":
-        m.stiff_s = s
+    elif name in _PLANT_SCALE:
+        setattr(m, _PLANT_SCALE[name], s)
     elif name == "clearance_growth":
         x_c = [nom.x_ag * (1 + s * (0.7 + 0.6 * k / max(n_app - 1, 1))) for k in range(n_app)]
     elif name == "force_sensor_bias":
