@@ -67,7 +67,11 @@ reached after less travel than the unit file's x_ag is no wear (an ECU that park
 pads than the unit file says, a thicker pad), and naming it as this effect would report a wear of
 minus some micrometres (a third, independently written world's healthy units, whose force loop parks
 within its angle tolerance short of its rest target, read -7.5 and -8.4 um of "clearance growth"
-before this limit; README "Third world").  An effect
+before this limit; README "Third world").  On the foreign draws the same limit removes a second effect
+that was listed beside nearly every foreign bilinear clamp stiffness (a soft first segment, then a
+stiffer one): a negative clearance change standing in for the soft segment's later rise, listed with
+the stiffness in 27 of 30 such recordings of the fifteen mixed draws and in the Stribeck + stiffness
+pairs, where the pair is now named exactly.  An effect
 whose fit sits on such a limit is not named (:attr:`.ranking.EffectFit.nameable`): the data want more
 of it than it can physically give, so its form is not what they show (a friction that falls only at
 low load, a preload relieved by the load, was read as a viscous drag of -230 % of B: a negative B).
