@@ -131,14 +131,30 @@ def run_third(bags: Path, jobs: int = 1, unit: UnitParams | None = None,
     dirs = sorted(str(p) for p in bags.iterdir() if (p / "truth.json").is_file())
     if not dirs:
         raise InputError(f"no third-world recordings (<case>/truth.json) under {bags}")
-    rows: list[ForeignCaseResult] = []
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(jobs) as pool:
-        for row in pool.map(_third_case, dirs, [unit] * len(dirs)):
-            rows.append(row)
-            if on_case is not None:
-                on_case(len(rows), len(dirs))
-    return score(rows, time.perf_counter() - t0)
+    return score(_scored(_third_case, [(d, unit) for d in dirs], jobs, on_case), time.perf_counter() - t0)
+
+
+def _scored(fn: Callable[..., ForeignCaseResult], calls: list[tuple], jobs: int,
+            on_case: Callable[[int, int], object] | None) -> list[ForeignCaseResult]:
+    """``fn(*args)`` for every ``args`` of ``calls``, on ``jobs`` processes (in this one when 1), reporting
+    each finished case to ``on_case(done, total)``; the rows sorted by case."""
+    rows: list[ForeignCaseResult] = []
+
+    def done(row: ForeignCaseResult) -> None:
+        rows.append(row)
+        if on_case is not None:
+            on_case(len(rows), len(calls))
+
+    if jobs <= 1:
+        for args in calls:
+            done(fn(*args))
+    else:
+        with ProcessPoolExecutor(jobs) as pool:
+            for fut in as_completed([pool.submit(fn, *args) for args in calls]):
+                done(fut.result())
+    rows.sort(key=lambda r: r.case)
+    return rows
 
 
 def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1,
@@ -149,22 +165,9 @@ def run_foreign(quick: bool = False, max_cases: int | None = None, jobs: int = 1
     from ebm_wear_monitor.validation.foreign import case_set
 
     cases = case_set(case_set_name or ("quick" if quick else "full"))[:max_cases]
-    rows: list[ForeignCaseResult] = []
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="ebm-foreign-") as tmp:
-        if jobs <= 1:
-            for case in cases:
-                rows.append(diagnose_case(case, tmp, unit))
-                if on_case is not None:
-                    on_case(len(rows), len(cases))
-        else:
-            with ProcessPoolExecutor(jobs) as pool:
-                futures = [pool.submit(diagnose_case, case, tmp, unit) for case in cases]
-                for fut in as_completed(futures):
-                    rows.append(fut.result())
-                    if on_case is not None:
-                        on_case(len(rows), len(cases))
-    rows.sort(key=lambda r: r.case)
+        rows = _scored(diagnose_case, [(case, tmp, unit) for case in cases], jobs, on_case)
     return score(rows, time.perf_counter() - t0)
 
 
