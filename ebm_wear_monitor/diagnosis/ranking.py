@@ -391,7 +391,8 @@ class Scorer:
     def responses(self, aug: Augment) -> np.ndarray:
         """dz/dt of every budget entry at ``aug``, all rows (torque then force, every block)."""
         z0 = self.z_all(aug)
-        return np.stack([self.z_all(a) - z0 for a in tolerance.at_bounds(aug, self.model.nominal)], axis=1)
+        bounds = tolerance.at_bounds(aug, self.model.nominal, self.model.release)
+        return np.stack([self.z_all(a) - z0 for a in bounds], axis=1)
 
     def z_all(self, aug: Augment) -> np.ndarray:
         """Normalised residuals of every block, torque then force, none left out (the layout of ``D``)."""
@@ -831,7 +832,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
         ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
-    ef.floor = tolerance.FLOORS.get(effect.name, 0.0)
+    ef.floor = tolerance.floor(effect.name, sc.model.release)
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef

@@ -33,7 +33,8 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
           play_share: float = 0.6, angle_side: str = "screw", rest_pulse: float = 0.0, creep: float = 0.0,
-          creep_friction: float = 1.0, angle_quantum: float = 0.0) -> Resampled:
+          creep_friction: float = 1.0, angle_quantum: float = 0.0,
+          parks: np.ndarray | None = None) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -57,6 +58,9 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     sliding friction (a stick-slip whose average friction is below the sliding level: how a drive creeps
     is its own convention). ``angle_quantum`` [rad]: the recorded angle is quantised to this step (an
     encoder's count), after its noise.
+
+    ``parks`` [m of nut travel, ``cycles + 1`` values]: where the ECU parks the nut before each application
+    and after the last, against the unit file's rest at 0 (a position loop stopping off its target).
     """
     rng = np.random.default_rng(seed)
     aug = Augment() if aug is None else aug
@@ -64,13 +68,14 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
         noise = {"angle": 1e-4, "velocity": 0.05, "axial_force": 30.0, "current": 0.03}  # 12-bit resolver
     parts = []
     t0 = 0.0
+    parks = np.zeros(cycles + 1) if parks is None else np.asarray(parks, float)
     for c in range(cycles):
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)
         x_end = nom.clamp.clearance + aug.clearance + F_target / nom.clamp.stiffness + play
         x_hold = x_end + 0.25 * creep * nom.lead / (2.0 * math.pi)  # where the creep ends [m]
-        seg = [("apply", T_app, 0.0, x_end), ("hold", 0.25, x_end, x_hold),
-               ("release", 0.8 * T_app, x_hold, 0.0), ("idle", 0.1, 0.0, 0.0)]
+        seg = [("apply", T_app, parks[c], x_end), ("hold", 0.25, x_end, x_hold),
+               ("release", 0.8 * T_app, x_hold, parks[c + 1]), ("idle", 0.1, parks[c + 1], parks[c + 1])]
         for kind, dur, xa, xb in seg:
             t = np.arange(0.0, dur, 1.0 / rate)
             p, v, a = _min_jerk(t / dur) if kind != "hold" else (t / dur, np.full(t.size, 1.0), 0.0 * t)

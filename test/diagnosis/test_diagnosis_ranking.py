@@ -128,7 +128,7 @@ def test_deviation_within_the_budget_is_not_material():
     # every budget entry at 90 % of its bound at once: a healthy unit as far off as the budget allows
     dev = Augment()
     for t in tolerance.BUDGET:
-        dev = tolerance.apply(dev, t.deviation(NOM))
+        dev = tolerance.apply(dev, t.deviation(NOM, 0.0))
     scaled = Augment(**{f: 0.9 * getattr(dev, f) for f in ("dB", "clearance", "force_gain")})
     sc, model = scorer(scaled, seed=5, cycles=12)
     r = rank(sc, catalog(model))
@@ -578,3 +578,31 @@ def test_a_foreign_load_relieved_preload_is_not_read_as_a_negative_viscous_drag(
     res = foreign_diagnosis("full_b", "preload_change.relief.1", tmp_path)
     assert res.verdict == "effect" and "preload_change" in res.effects
     assert "viscous_friction" not in res.effects
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_an_ecu_parking_anywhere_in_a_band_behind_its_target_is_no_clearance_growth(seed):
+    """An ECU that parks the nut anywhere up to 16 um behind its target (one-sided, evenly: 8 um behind on
+    average, more than the clearance's thermal 5 um) reads ``none``: the parks' spread s bounds the mean
+    offset by sqrt(3) s (:mod:`.conventions`), closed form sqrt(3) std of the parks the diagnosis sees
+    (the first application, at the recording's start, has no rest before it), and the entry becomes
+    r_x = hypot(5 um, sqrt(3) s).  The same 8 um with no spread cannot be told from wear and is named a
+    clearance growth of 8 um (the documented limit).  A growth of 25 um with the scattered parks is named,
+    its size the growth plus the parks' mean offset."""
+    rng = np.random.default_rng(100 + seed)
+    parks = -rng.uniform(0.0, 16e-6, 13)  # before each of the 12 applications and after the last [m]
+    seen = parks[1:12]
+    sc, model = scorer(Augment(), seed=seed, cycles=12, parks=parks)
+    assert model.release == pytest.approx(np.sqrt(3.0) * np.std(seen, ddof=1), abs=0.2e-6)
+    r = rank(sc, catalog(model))
+    growth = next(e for e in r.fits if e.effect.name == "clearance_growth")
+    assert growth.floor == pytest.approx(np.hypot(5e-6, model.release), rel=1e-9)
+    assert r.verdict == "none", [(e.effect.name, e.size, e.floor) for e in r.selected]
+    sc, model = scorer(Augment(), seed=seed, cycles=12, parks=np.full(13, -8e-6))
+    r = rank(sc, catalog(model))
+    assert model.release < 0.2e-6 and r.verdict == "effect" and r.effect.effect.name == "clearance_growth"
+    assert r.effect.size == pytest.approx(8e-6, abs=4.0 * r.effect.size_std + 0.3e-6)
+    sc, model = scorer(Augment(clearance=2.5e-5), seed=seed, cycles=12, parks=parks)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect" and r.effect.effect.name == "clearance_growth"
+    assert r.effect.size == pytest.approx(2.5e-5 - np.mean(seen), abs=4.0 * r.effect.size_std + 0.3e-6)
