@@ -391,7 +391,7 @@ class Scorer:
     def responses(self, aug: Augment) -> np.ndarray:
         """dz/dt of every budget entry at ``aug``, all rows (torque then force, every block)."""
         z0 = self.z_all(aug)
-        bounds = tolerance.at_bounds(aug, self.model.nominal, self.model.release)
+        bounds = tolerance.at_bounds(aug, self.model.nominal, self.model.park_half_band)
         return np.stack([self.z_all(a) - z0 for a in bounds], axis=1)
 
     def z_all(self, aug: Augment) -> np.ndarray:
@@ -832,7 +832,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
         ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
-    ef.floor = tolerance.floor(effect.name, sc.model.release)
+    ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef

@@ -146,7 +146,7 @@ def _quantity(value: float, std: float, unit: str) -> str:
 NUISANCE_WORDS = {
     "rest_angle_rad": "released rest angle (encoder zero), mean",
     "rest_angle_spread_rad": "… spread between applications",
-    "release_repeatability_rad": "… its mean's offset from the ECU's target, at most (√3 × the scatter)",
+    "park_half_band_rad": "… half the band the ECU parks in (interquartile range)",
     "force_tare_N": "force reading with the pads open (tare), mean",
     "force_tare_spread_N": "… spread between applications",
     "applications_not_released": "applications starting with the pads closed (left out of the force channel)",

@@ -312,8 +312,8 @@ class ResidualModel:
         self.tare = tare
         self.force = rec.axial_force - tare  # tared force reading [N]
         self.x = nominal.nut_travel(rec.angle - rest)  # nut travel, 004 eq. 4 [m]
-        #: the ECU's release repeatability in nut travel [m] (:mod:`.conventions`, :mod:`.tolerance`)
-        self.release = float(nominal.nut_travel(np.asarray(conv.release_repeatability)))
+        #: half the band the ECU parks in, in nut travel [m] (:mod:`.conventions`, :mod:`.tolerance`)
+        self.park_half_band = float(nominal.nut_travel(np.asarray(conv.park_half_band)))
         self.blocks = make_blocks(seg, self.w_m, self.force, self.moving, max(2, round(block_s / rec.dt)))
         if self.blocks.size < 4:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")

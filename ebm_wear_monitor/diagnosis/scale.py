@@ -142,7 +142,8 @@ def entry_index() -> int:
 
 def budget_bound(nominal: ActuatorModel) -> float:
     """The budget's bound on K_T x current gain, as a relative deviation [-]."""
-    return float(tolerance.BUDGET[entry_index()].deviation(nominal, 0.0).drive_gain)
+    no_park_band = 0.0  # [m]: K_T's entry does not depend on it
+    return float(tolerance.BUDGET[entry_index()].deviation(nominal, no_park_band).drive_gain)
 
 
 def torque_scale(z: np.ndarray, response: np.ndarray, t: float, *, bound: float, cycles: np.ndarray,

@@ -17,9 +17,8 @@ viscous coefficient B                 +-10 %     lubricant viscosity falls ~2.5 
                                                  that the temperature must be given to the twin)
 clamp stiffness K_b (004 eq. 6)       +-3 %      pad modulus with temperature and pad wear
 brake clearance x_ag                  +-r_x      thermal expansion of ~0.1 m of caliper steel over +-4 K
-                                                 (12e-6 /K), 4.8 um, taken as 5 um, and the ECU's
-                                                 release position, measured: r_x = hypot(5 um,
-                                                 sqrt(3) s_rest), below
+                                                 (12e-6 /K), 4.8 um, taken as 5 um, and where the
+                                                 ECU parks, measured: r_x = hypot(5 um, h), below
 load-cell gain                        +-1 %      a class-0.5 load cell with its amplifier
 ====================================  =========  =========================================================
 
@@ -50,22 +49,23 @@ preload_change              4 % of T_fc               direction asymmetry of T_f
 stribeck                    5 % of T_fc, its fall     half the twin's own static excess
                                                       (T_fs - T_fc = 10.7 % of T_fc)
 stiffness_nonlinearity      3 % of K_b                K_b +-3 %
-clearance_growth            r_x (5-7 um)              x_ag +-r_x
+clearance_growth            r_x = hypot(5 um, h)      x_ag +-r_x
 force_sensor_bias           3 % gain                  load-cell gain +-1 %, plus K_T x current gain
                                                       +-2 %: in the force channel a gain is K_b's
                                                       signature (+-3 %), in the torque channel K_T's
 ==========================  ========================  ==============================================
 
-**The release position, per recording.**  The clearance counts from where the ECU parks the nut,
+**Where the ECU parks, per recording.**  The clearance counts from where the ECU parks the nut,
 and a healthy unit's ECU parks within a tolerance of its own, off its target by any amount
 inside it: position-loop error, a loop that stops inside its tolerance on one side of its target.
-The recording shows how far the parks scatter (s_rest, :mod:`.conventions`, in nut travel); parks
-spread evenly over a band are up to sqrt(3) s_rest from its end, and that is the release entry,
-added to the thermal one in quadrature (independent sources, like the K_T entry):
-r_x = hypot(5 um, sqrt(3) s_rest).  An ECU that parks with no scatter gives 5 um (the twin's); the
-foreign generator's ECUs give 5.1-6.2 um, the third world's 5.1-7.1 um.  The fixed +-5 um this
-replaced bounded the thermal part only, and a third-world ECU whose parks scatter by 2.5 um (and
-whose mean sits 7 um beyond its target) read as a clearance growth of 7.3 +- 1.1 um.
+The recording shows the band its parks cover; its half-width h (:mod:`.conventions`, the
+interquartile range of the rest angles, in nut travel) is how far their mean lies from the band's
+end, where the target may be.  It is added to the thermal entry in quadrature (independent
+sources, like the K_T entry): r_x = hypot(5 um, h), both the tolerance the fits may use and the
+clearance growth's floor.  An ECU that parks in the same place every time gives 5 um (the twin's).
+The fixed +-5 um this replaced bounded the thermal part only, and a third-world ECU whose parks
+wander over some 7 um read as a clearance growth of 7.3 +- 1.1 um.  The price: the wider an ECU's
+band, the larger a clearance growth must be to be named (a growth of 5-7 um beside a 5 um band).
 """
 
 from __future__ import annotations
@@ -86,7 +86,7 @@ class Tolerance:
     """One entry of the budget: a healthy unit's deviation at the bound, and why."""
 
     name: str
-    #: the model change at the bound, of the nominal twin and the release repeatability [m]
+    #: the model change at the bound, of the nominal twin and the ECU's park half-band [m]
     deviation: Callable[[ActuatorModel, float], Augment]
     reason: str
 
@@ -94,27 +94,27 @@ class Tolerance:
 THERMAL_CLEARANCE = 5e-6  # ~0.1 m of caliper steel, 12e-6 /K, +-4 K: 4.8 um, the budget's 5 um [m]
 
 
-def clearance_bound(release: float) -> float:
-    """r_x = hypot(thermal, sqrt(3) s_rest) [m] of the release repeatability ``release`` = sqrt(3) s_rest
-    in nut travel [m] (module docstring)."""
-    return math.hypot(THERMAL_CLEARANCE, release)
+def clearance_bound(park_half_band: float) -> float:
+    """r_x = hypot(thermal, h) [m] of the ECU's park half-band h = ``park_half_band`` [m] (module
+    docstring)."""
+    return math.hypot(THERMAL_CLEARANCE, park_half_band)
 
 
 BUDGET: tuple[Tolerance, ...] = (
-    Tolerance("torque_constant", lambda n, r: Augment(drive_gain=0.02),
+    Tolerance("torque_constant", lambda n, h: Augment(drive_gain=0.02),
               "K_T x current-sensor gain +-2 %: -0.12 %/K over +-10 K and a 1 % current-sensor gain"),
-    Tolerance("inertia", lambda n, r: Augment(inertia_gain=0.02),
+    Tolerance("inertia", lambda n, h: Augment(inertia_gain=0.02),
               "J_me +-2 %: datasheet rotor and gear inertia"),
     Tolerance("direction_asymmetry",
-              lambda n, r: Augment(reverse_dT_fc=-0.0743 * n.friction.coulomb,
+              lambda n, h: Augment(reverse_dT_fc=-0.0743 * n.friction.coulomb,
                                 reverse_dG=-0.0293 * n.friction.load_coefficient),
               "004 Table 3: T_fc 7.43 % and G 2.93 % lower in reverse"),
-    Tolerance("viscous", lambda n, r: Augment(dB=0.10 * n.friction.viscous),
+    Tolerance("viscous", lambda n, h: Augment(dB=0.10 * n.friction.viscous),
               "B +-10 %: +-4 K of lubricant temperature"),
-    Tolerance("stiffness", lambda n, r: Augment(stiffness_gain=0.03), "K_b +-3 %: pad modulus"),
-    Tolerance("clearance", lambda n, r: Augment(clearance=clearance_bound(r)),
-              "x_ag +-r_x: thermal 5 um, release position measured"),
-    Tolerance("load_cell", lambda n, r: Augment(force_gain=0.01), "load-cell gain +-1 %: class 0.5"),
+    Tolerance("stiffness", lambda n, h: Augment(stiffness_gain=0.03), "K_b +-3 %: pad modulus"),
+    Tolerance("clearance", lambda n, h: Augment(clearance=clearance_bound(h)),
+              "x_ag +-r_x: thermal 5 um, where the ECU parks measured"),
+    Tolerance("load_cell", lambda n, h: Augment(force_gain=0.01), "load-cell gain +-1 %: class 0.5"),
 )
 
 #: effect -> the budget entries its floor is made of (module docstring's second table): held at zero while
@@ -139,13 +139,15 @@ def torque_floor(drive: np.ndarray) -> float:
 #: effect -> detectability floor of its size (module docstring; units as :mod:`.catalog`'s sizes)
 FLOORS = {"viscous_friction": 0.10, "load_friction": 0.03, "efficiency_variation": 0.02,
           "preload_change": 0.04, "stribeck": 0.05, "stiffness_nonlinearity": 0.03,
-          "force_sensor_bias": 0.03}
+          "clearance_growth": THERMAL_CLEARANCE, "force_sensor_bias": 0.03}
 
 
-def floor(effect_name: str, release: float) -> float:
+def floor(effect_name: str, park_half_band: float) -> float:
     """Detectability floor of an effect's size (:data:`FLOORS`; the clearance growth's is r_x of the
-    release repeatability ``release`` [m], :func:`clearance_bound`)."""
-    return clearance_bound(release) if effect_name == "clearance_growth" else FLOORS.get(effect_name, 0.0)
+    ECU's park half-band [m], :func:`clearance_bound`)."""
+    if effect_name == "clearance_growth":
+        return clearance_bound(park_half_band)
+    return FLOORS.get(effect_name, 0.0)
 
 
 def apply(base: Augment, deviation: Augment) -> Augment:
@@ -156,11 +158,11 @@ def apply(base: Augment, deviation: Augment) -> Augment:
                                         if getattr(deviation, f) != getattr(zero, f)})
 
 
-def at_bounds(aug: Augment, nominal: ActuatorModel, release: float) -> list[Augment]:
+def at_bounds(aug: Augment, nominal: ActuatorModel, park_half_band: float) -> list[Augment]:
     """``aug`` with each entry of the budget at its bound, in the order of ``BUDGET`` (the residuals are
     linear in the deviations, so a residual's change at the bound is its response to the entry);
-    ``release`` the recording's release repeatability in nut travel [m]."""
-    return [apply(aug, t.deviation(nominal, release)) for t in BUDGET]
+    ``park_half_band`` the recording's (:mod:`.conventions`) in nut travel [m]."""
+    return [apply(aug, t.deviation(nominal, park_half_band)) for t in BUDGET]
 
 
 def free(effect_names: list[str]) -> list[bool]:

@@ -69,6 +69,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     parts = []
     t0 = 0.0
     parks = np.zeros(cycles + 1) if parks is None else np.asarray(parks, float)
+    assert parks.shape == (cycles + 1,), "parks: one before each application and one after the last"
     for c in range(cycles):
         F_target = rng.uniform(*forces)
         T_app = rng.uniform(*durations)

@@ -583,24 +583,28 @@ def test_a_foreign_load_relieved_preload_is_not_read_as_a_negative_viscous_drag(
 @pytest.mark.parametrize("seed", [3, 4])
 def test_an_ecu_parking_anywhere_in_a_band_behind_its_target_is_no_clearance_growth(seed):
     """An ECU that parks the nut anywhere up to 16 um behind its target (one-sided, evenly: 8 um behind on
-    average, more than the clearance's thermal 5 um) reads ``none``: the parks' spread s bounds the mean
-    offset by sqrt(3) s (:mod:`.conventions`), closed form sqrt(3) std of the parks the diagnosis sees
-    (the first application, at the recording's start, has no rest before it), and the entry becomes
-    r_x = hypot(5 um, sqrt(3) s).  The same 8 um with no spread cannot be told from wear and is named a
+    average, more than the clearance's thermal 5 um) reads ``none``: the band its parks cover is
+    measured (:mod:`.conventions`: half of it is their interquartile range, closed form from the parks the
+    diagnosis sees, the first application at the recording's start having no rest before it) and the
+    clearance entry becomes r_x = hypot(5 um, half-band).  One application parked 30 um off moves the
+    half-band by less than 1.5 um.  The same 8 um with no spread cannot be told from wear and is named a
     clearance growth of 8 um (the documented limit).  A growth of 25 um with the scattered parks is named,
     its size the growth plus the parks' mean offset."""
     rng = np.random.default_rng(100 + seed)
     parks = -rng.uniform(0.0, 16e-6, 13)  # before each of the 12 applications and after the last [m]
     seen = parks[1:12]
     sc, model = scorer(Augment(), seed=seed, cycles=12, parks=parks)
-    assert model.release == pytest.approx(np.sqrt(3.0) * np.std(seen, ddof=1), abs=0.2e-6)
+    assert model.park_half_band == pytest.approx(np.subtract(*np.percentile(seen, [75, 25])), abs=0.05e-6)
     r = rank(sc, catalog(model))
-    growth = next(e for e in r.fits if e.effect.name == "clearance_growth")
-    assert growth.floor == pytest.approx(np.hypot(5e-6, model.release), rel=1e-9)
     assert r.verdict == "none", [(e.effect.name, e.size, e.floor) for e in r.selected]
+    odd = parks.copy()
+    odd[6] = -30e-6
+    _, model_odd = scorer(Augment(), seed=seed, cycles=12, parks=odd)
+    assert abs(model_odd.park_half_band - model.park_half_band) < 1.5e-6
     sc, model = scorer(Augment(), seed=seed, cycles=12, parks=np.full(13, -8e-6))
     r = rank(sc, catalog(model))
-    assert model.release < 0.2e-6 and r.verdict == "effect" and r.effect.effect.name == "clearance_growth"
+    assert model.park_half_band < 0.1e-6
+    assert r.verdict == "effect" and r.effect.effect.name == "clearance_growth"
     assert r.effect.size == pytest.approx(8e-6, abs=4.0 * r.effect.size_std + 0.3e-6)
     sc, model = scorer(Augment(clearance=2.5e-5), seed=seed, cycles=12, parks=parks)
     r = rank(sc, catalog(model))
