@@ -139,10 +139,11 @@ def test_deviation_within_the_budget_is_not_material():
 def test_the_force_channels_materiality_is_the_gain_the_budget_leaves(gain, material):
     # a load-cell gain error g. In the force channel the budget makes gains of 0.97 x 0.99 to 1.03 x 1.01
     # (K_b +-3 %, the load cell +-1 %), so the twin within its tolerance leaves at most the excess e beyond
-    # that range times the clamp force; the one other entry acting there, the clearance's +-5 um, is an
-    # offset and can take no more of e F than its mean, so at least e std(F) / RMS(F) is left (both weighted
-    # as the share is, sigma^-4, over the held-out blocks in contact). Closed-form bounds from the
-    # recording's forces; 3 % lies within the budget (e = 0), 7 % beyond the channel's 1 % bound
+    # that range times the clamp force; the one other entry acting there, the clearance's +-5 um (these
+    # parks have no band), is an offset and can take no more of e F than its mean, so at least
+    # e std(F) / RMS(F) is left (both weighted as the share is, sigma^-4, over the held-out blocks in
+    # contact). Closed-form bounds from the recording's forces; 3 % lies within the budget (e = 0), 7 %
+    # beyond the channel's 1 % bound
     sc, _ = scorer(Augment(force_gain=gain), cycles=16)
     share = sc.unexplained_share(sc.base)["force"]
     high, low = 1.03 * 1.01, 0.97 * 0.99  # the gains the budget can make in the force channel
