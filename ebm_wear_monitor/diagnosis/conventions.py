@@ -39,14 +39,17 @@ position against that target no recording shows (a loop that stops inside its to
 one side of its target only).  For parks spread evenly over a band of width w, their mean lies
 w / 2 from either end of it: when the target is an end, the mean park is w / 2 off it.  That
 half-band, ``park_half_band_rad``, is estimated by the interquartile range of the released
-applications' rest angles (w / 2 exactly for an even spread, 1.35 sigma for a normal one; one
-odd application, a release caught before it settled, moves it little), over the whole recording:
-scatter and slow wander alike (the third world's ECUs wander by 5-7 um over a recording, and the
-target may lie anywhere in what they cover).  It is an estimate, not a bound: from 11-29
-applications its own error is some 20 %, and an even band's mean exceeds it in about half of
-the draws.  The tolerance budget (:mod:`.tolerance`) adds it to the clearance's thermal entry.
-With fewer than four released applications it is 0 (nothing to measure it by).  A park that is
-off its target by the same amount every time has no spread and cannot be told from a clearance.
+applications' rest angles (1.35 sigma for a normal spread; one odd application, a release caught
+before it settled, moves it little), over the whole recording: scatter and slow wander alike (the
+third world's 62 healthy recordings of seeds 3-7: 0.7-6.5 um; the target may lie anywhere in what
+they cover).  It is an estimate, not a bound, and a low one for few applications: for n parks spread
+evenly, numpy's interpolated quartiles give (n - 1) / (n + 1) of w / 2 on average (0.83 at n = 11,
+0.93 at n = 29, Monte Carlo), its own scatter is 18-25 % of w / 2, and the mean park lies beyond it
+in 61-70 % of draws (beyond hypot(5 um, it), the clearance entry, in 1-10 % of draws for a 10 um
+band, 24-41 % for 16 um, 50-62 % for 30 um).  The tolerance budget (:mod:`.tolerance`) adds it
+to the clearance's thermal entry.  With fewer than four released applications it is 0 (nothing
+to measure it by).  A park that is off its target by the same amount every time has no spread
+and cannot be told from a clearance.
 
 **Force tare of each application.**  With the pads open the true clamp force is
 zero (004 eq. 5, x < x_ag), so the median force reading over the last idle stretch before

@@ -55,17 +55,17 @@ force_sensor_bias           3 % gain                  load-cell gain +-1 %, plus
                                                       signature (+-3 %), in the torque channel K_T's
 ==========================  ========================  ==============================================
 
-**Where the ECU parks, per recording.**  The clearance counts from where the ECU parks the nut,
-and a healthy unit's ECU parks within a tolerance of its own, off its target by any amount
-inside it: position-loop error, a loop that stops inside its tolerance on one side of its target.
-The recording shows the band its parks cover; its half-width h (:mod:`.conventions`, the
-interquartile range of the rest angles, in nut travel) is how far their mean lies from the band's
-end, where the target may be.  It is added to the thermal entry in quadrature (independent
-sources, like the K_T entry): r_x = hypot(5 um, h), both the tolerance the fits may use and the
-clearance growth's floor.  An ECU that parks in the same place every time gives 5 um (the twin's).
-The fixed +-5 um this replaced bounded the thermal part only, and a third-world ECU whose parks
-wander over some 7 um read as a clearance growth of 7.3 +- 1.1 um.  The price: the wider an ECU's
-band, the larger a clearance growth must be to be named (a growth of 5-7 um beside a 5 um band).
+**Where the ECU parks, per recording.** The clearance counts from where the ECU parks the nut, and a
+healthy unit's ECU parks within a tolerance of its own, off its target by any amount inside it:
+position-loop error, a loop that stops inside its tolerance on one side of its target. The recording
+shows the band its parks cover; its half-width h (:mod:`.conventions`, the interquartile range of the
+rest angles, in nut travel) estimates how far their mean lies from the band's end, where the target may
+be (low for few applications: :mod:`.conventions`). It is added to the thermal entry in quadrature
+(independent sources, like the K_T entry): r_x = hypot(5 um, h), both the tolerance the fits may use and
+the clearance growth's floor. An ECU that parks in the same place every time gives 5 um (the twin's).
+The fixed +-5 um this replaced bounded the thermal part only, and a third-world ECU whose parks wander
+over some 7 um read as a clearance growth of 7.3 +- 1.1 um. The price: the wider an ECU's band, the
+larger a clearance growth must be to be named (a growth of 5-7 um beside a 5 um band).
 """
 
 from __future__ import annotations
