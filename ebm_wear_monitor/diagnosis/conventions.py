@@ -46,10 +46,11 @@ they cover).  It is an estimate, not a bound, and a low one for few applications
 evenly, numpy's interpolated quartiles give (n - 1) / (n + 1) of w / 2 on average (0.83 at n = 11,
 0.93 at n = 29, Monte Carlo), its own scatter is 18-25 % of w / 2, and the mean park lies beyond it
 in 61-70 % of draws (beyond hypot(5 um, it), the clearance entry, in 1-10 % of draws for a 10 um
-band, 24-41 % for 16 um, 50-62 % for 30 um).  The tolerance budget (:mod:`.tolerance`) adds it
-to the clearance's thermal entry.  With fewer than four released applications it is 0 (nothing
-to measure it by).  A park that is off its target by the same amount every time has no spread
-and cannot be told from a clearance.
+band, 24-41 % for 16 um, 50-62 % for 30 um).  Its reported standard deviation is the bootstrap's
+over the applications.  The tolerance budget (:mod:`.tolerance`) adds it to the clearance's thermal
+entry.  With fewer than four released applications there is nothing to measure it by: the nuisance
+is not reported and the clearance entry is the thermal part alone.  A park that is off its target
+by the same amount every time has no spread and cannot be told from a clearance.
 
 **Force tare of each application.**  With the pads open the true clamp force is
 zero (004 eq. 5, x < x_ag), so the median force reading over the last idle stretch before
@@ -88,6 +89,8 @@ REST_WINDOW_S = 0.02  # idle time before an application over which its rest angl
 SETTLE_S = 0.01  # idle time after a release left out of the tare [s]
 TARE_SPAN = 3  # applications each side over which the tare is taken [-]
 VELOCITY_LAG_RANGE_S = 0.02  # the recorded velocity's lag is searched within +-this [s]
+MIN_PARKS = 4  # released applications needed to estimate the park half-band [-]
+PARK_BOOTSTRAP = 200  # bootstrap resamples of the park half-band's standard deviation [-]
 
 
 def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
@@ -120,7 +123,7 @@ class Conventions:
     tare: np.ndarray  # force reading at rest before each application [N]
     tare_std: np.ndarray  # its standard deviation [N]
     released: np.ndarray  # bool per application: the pads were open before it (module docstring)
-    park_half_band: float  # half the band the released rest angles cover (module docstring) [rad]
+    park_half_band: float  # half-band of the released rests, 0 unless estimated (module docstring) [rad]
     estimates: dict[str, Estimate]  # the reported nuisances
 
     def per_sample(self, seg: Segmentation) -> tuple[np.ndarray, np.ndarray]:
@@ -136,11 +139,22 @@ def _median_std(x: np.ndarray) -> tuple[float, float]:
     return float(np.median(x)), 1.2533 * sigma / np.sqrt(x.size)
 
 
-def park_half_band(rest: np.ndarray, released: np.ndarray) -> float:
+def _iqr(x: np.ndarray) -> np.ndarray:
+    """Interquartile range along the last axis (numpy's interpolated quartiles)."""
+    q75, q25 = np.percentile(x, [75.0, 25.0], axis=-1)
+    return np.asarray(q75 - q25)
+
+
+def park_half_band(rest: np.ndarray, released: np.ndarray) -> Estimate | None:
     """Half the band the ECU parks in [rad]: the interquartile range of the released applications' rest
-    angles ``rest`` [rad] (module docstring); 0 with fewer than four of them."""
+    angles ``rest`` [rad] (module docstring), with the standard deviation of that range by the bootstrap
+    over applications (``PARK_BOOTSTRAP`` resamples with replacement, a fixed seed so that a diagnosis
+    repeats); ``None`` with fewer than ``MIN_PARKS`` of them (nothing to measure it by)."""
     r = rest[released]
-    return float(np.subtract(*np.percentile(r, [75.0, 25.0]))) if r.size >= 4 else 0.0
+    if r.size < MIN_PARKS:
+        return None
+    resampled = np.random.default_rng(0).choice(r, size=(PARK_BOOTSTRAP, r.size))
+    return Estimate(float(_iqr(r)), float(np.std(_iqr(resampled), ddof=1)), "rad")
 
 
 def _fill(values: np.ndarray) -> np.ndarray:
@@ -220,11 +234,13 @@ def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WI
         "force_tare_N": Estimate(float(np.mean(tare)), spread(tare) / np.sqrt(n), "N"),
         "force_tare_spread_N": Estimate(spread(tare), 0.0, "N"),
         "applications_not_released": Estimate(float(np.sum(~released)), 0.0, "-"),
-        "park_half_band_rad": Estimate(park_half_band(rest, released), 0.0, "rad"),
         "angle_noise_rad": Estimate(sigma_angle, 0.0, "rad"),
     }
+    band = park_half_band(rest, released)
+    if band is not None:
+        est["park_half_band_rad"] = band
     est |= _velocity_convention(rec, speed, moving)
     for name in SIGNALS:
         est[f"{name}_rate_Hz"] = Estimate(1.0 / rec.interval(name), 0.0, "Hz")
     return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, released,
-                       est["park_half_band_rad"].value, est)
+                       0.0 if band is None else band.value, est)
