@@ -29,6 +29,7 @@ from ebm_wear_monitor.diagnosis.conventions import estimate_conventions
 from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import segment
 from ebm_wear_monitor.diagnosis.ranking import (
+    ALPHA,
     METRIC,
     SHRINK_NEEDED,
     EffectFit,
@@ -255,7 +256,41 @@ def summary(ranking: Ranking) -> str:
                 f"pair closes half of it (best {100.0 * ranking.best_pair_shrink:.0f} %): an effect outside "
                 "the catalog is likely.")
     return (f"The twin explains the recording within its tolerance ({gap}, {ranking.gap_tolerance:.2f} "
-            "within tolerance); no effect is both significant and above its detectability floor.")
+            f"within tolerance); no effect is both significant and above its detectability floor."
+            f"{_nearest(ranking)}")
+
+
+def _floor_words(f: EffectFit) -> str:
+    """An effect's detectability floor (:mod:`.tolerance`) in the unit people read."""
+    if f.effect.size_unit == "m":
+        return f"{1e6 * f.floor:.1f} µm"
+    return f"{100.0 * f.floor:.0f} % ({f.effect.size_meaning})"
+
+
+def _nearest(ranking: Ranking) -> str:
+    """For a ``none`` verdict: the best-ranked effect off its physical limits that passed one of the two
+    tests an effect needs, significance (a) and materiality (b) of :mod:`.ranking`, or both and was still
+    not named, in plain words; empty when none did.  A material effect counts here only when it would be
+    significant were it the only effect tried (p below ``ALPHA``, not ``ALPHA`` / K): what a longer
+    recording may name, not a finding."""
+    for f in ranking.fits:
+        if f.at_limit:
+            continue
+        significant = f.p_value < ranking.alpha and f.score > 0.0
+        test = f"p = {f.p_value:.2g} against the level {ranking.alpha:.2g}"
+        if f.material and not significant and f.p_value < ALPHA and f.score > 0.0:
+            return (f" Nearest, not named: {describe(f)}, above its floor but its held-out improvement is "
+                    f"not significant once {len(ranking.fits)} effects are tried ({test}); more "
+                    "applications, over more speeds and forces, would decide it.")
+        if significant and not f.material:
+            return (f" Nearest, not named: {describe(f)}, significant ({test}) but not above its "
+                    f"detectability floor of {_floor_words(f)} with 95 % confidence: within what the twin's "
+                    "tolerance allows.")
+        if significant:
+            return (f" Nearest, not named: {describe(f)}, significant ({test}) and above its floor, but it "
+                    "does not explain the recording (it leaves the held-out gap where the twin has it, or "
+                    "makes another channel materially wrong).")
+    return ""
 
 
 def nuisance_report(sc: Scorer) -> dict[str, Estimate]:

@@ -527,6 +527,21 @@ def test_a_foreign_healthy_unit_whose_best_effect_leaves_the_gap_is_none(tmp_pat
     viscous = next(e for e in res.ranking if e.effect == "viscous_friction")
     assert viscous.p_value < 0.05 / len(res.ranking)  # significant against the tolerant twin
     assert viscous.gap_after >= res.gap_before  # ... and no shrink of the held-out gap
+    assert "Nearest, not named: lubricant viscous drag" in res.summary and "does not explain" in res.summary
+
+
+def test_a_foreign_viscous_drag_too_weak_to_name_is_the_nearest_effect_of_the_summary(tmp_path):
+    """A viscous drag of +113 % of B from the independently written foreign generator (``full_e``
+    viscous_friction.power.0) that the held-out test does not confirm once eight effects are tried (the
+    twin within its tolerance absorbs most of it, README "Where the misses are") reads ``none``; the
+    summary still tells the user which effect came nearest, with its size above its floor and why it was
+    not named."""
+    res = foreign_diagnosis("full_e", "viscous_friction.power.0", tmp_path)
+    assert res.verdict == "none"
+    assert "Nearest, not named: lubricant viscous drag" in res.summary
+    assert "not significant once" in res.summary
+    viscous = next(e for e in res.ranking if e.effect == "viscous_friction")
+    assert viscous.material and 0.05 / len(res.ranking) <= viscous.p_value < 0.05
 
 
 def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_named():
