@@ -276,9 +276,9 @@ def _nearest(ranking: Ranking) -> str:
     for f in ranking.fits:
         if f.at_limit:
             continue
-        significant = f.p_value < ranking.alpha and f.score > 0.0
+        significant = f.significant(ranking.alpha)
         test = f"p = {f.p_value:.2g} against the level {ranking.alpha:.2g}"
-        if f.material and not significant and f.p_value < ALPHA and f.score > 0.0:
+        if f.material and not significant and f.significant(ALPHA):
             return (f" Nearest, not named: {describe(f)}, above its floor but its held-out improvement is "
                     f"not significant once {len(ranking.fits)} effects are tried ({test}); more "
                     "applications, over more speeds and forces, would decide it.")

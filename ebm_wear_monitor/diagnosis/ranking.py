@@ -772,6 +772,11 @@ class EffectFit:
         size - 1.645 std > floor."""
         return self.size - MATERIAL_Z * self.size_std > self.floor
 
+    def significant(self, level: float) -> bool:
+        """Test (a) of the module docstring at ``level``: its held-out improvement is significant and its
+        held-out score positive."""
+        return self.p_value < level and self.score > 0.0
+
     @property
     def nameable(self) -> bool:
         """Material and off its physical limits (:meth:`.catalog.Effect.at_limit`): what an effect must be
@@ -1034,7 +1039,7 @@ def nominal_sse(sc: Scorer) -> np.ndarray:
 def _supported(sc: Scorer, f: EffectFit, level: float, w_share: dict[str, float]) -> bool:
     """Tests (a), (b), (d) and (e) of the module docstring (``w_share``: the model error of the twin
     within its tolerance, :meth:`Scorer.unexplained_share`)."""
-    if not (f.nameable and f.p_value < level and f.score > 0.0) or _worsens(w_share, f.share):
+    if not (f.nameable and f.significant(level)) or _worsens(w_share, f.share):
         return False
     f.drift = drift_test(sc, f)
     return not f.drifting
@@ -1369,7 +1374,7 @@ def best_pair(sc: Scorer, fits: list[EffectFit], s_before: np.ndarray, gap_befor
         q = evaluate(sc, combine(a.effect, b.effect), s_before, gap_before)
         if tried is not None:
             tried.append(q)
-        if not (q.p_value < level and q.score > 0.0 and closes(q) and not _worsens(w_share, q.share)) \
+        if not (q.significant(level) and closes(q) and not _worsens(w_share, q.share)) \
                 or (best is not None and q.score <= best[0].score):
             continue
         k = a.effect.k

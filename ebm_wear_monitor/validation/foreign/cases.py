@@ -335,7 +335,7 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_l": (48000, 49000, "none_l"), "full_m": (51000, 52000, "none_m"),
          "full_n": (54000, 55000, "none_n"), "full_o": (57000, 58000, "none_o"),
          "full_p": (60000, 61000, "none_p"), "full_q": (63000, 64000, "none_q2"),
-         "full_r": (66000, 67000, "none_r")}
+         "full_r": (66000, 67000, "none_r")}  # "none_q" is the quick set's prefix, hence "none_q2"
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
