@@ -335,14 +335,15 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_l": (48000, 49000, "none_l"), "full_m": (51000, 52000, "none_m"),
          "full_n": (54000, 55000, "none_n"), "full_o": (57000, 58000, "none_o"),
          "full_p": (60000, 61000, "none_p"), "full_q": (63000, 64000, "none_q2"),
-         "full_r": (66000, 67000, "none_r")}  # "none_q" is the quick set's prefix, hence "none_q2"
+         "full_r": (66000, 67000, "none_r"), "full_s": (69000, 70000, "none_s"),
+         "full_t": (72000, 73000, "none_t")}  # "none_q" is the quick set's prefix, hence "none_q2"
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
                  "outside_h": 41000, "outside_i": 44000, "outside_j": 47000,
                  "outside_k": 50000, "outside_l": 53000, "outside_m": 56000,
                  "outside_n": 59000, "outside_o": 62000, "outside_p": 65000,
-                 "outside_q": 68000}
+                 "outside_q": 68000, "outside_r": 71000, "outside_s": 74000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -395,7 +396,9 @@ def case_set(name: str) -> list[Case]:
     ``full_p`` (seeds 60000 and 61000), ``full_q`` (63000 and 64000), ``full_r`` (66000 and 67000),
     ``outside_o`` (from 62000), ``outside_p`` (from 65000) and ``outside_q`` (from 68000): registered
     at 6c6ded3 and first run blind with its diagnosis (the clearance entry per recording), more
-    repeat draws.
+    repeat draws.  ``full_s`` (seeds 69000 and 70000), ``full_t`` (72000 and 73000), ``outside_r``
+    (from 71000) and ``outside_s`` (from 74000): registered with the speed windows cut only where the
+    screw sticks under load (``diagnosis.conventions.speed_groups``), before their first run.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
