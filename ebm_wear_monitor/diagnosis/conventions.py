@@ -17,17 +17,10 @@ filtered derivative, a moving average, an observer) turns that into a
 friction-sized residual.  The diagnosis therefore differentiates the *angle*
 itself, with its true stamps: a local quadratic regression over a window of about
 ``window_s`` (at least 2 samples each side), theta(t) ~ a + b (t - t_i) + c (t - t_i)^2,
-whose slope b at t_i is the speed.  A window spans phase labels but not a kink of
-the motion (:func:`speed_groups`): the armature current is continuous (004 eq. 8),
-so the rotor's acceleration steps only where eq. 9 switches between sliding and the
-stick branch, by up to (T_fs + G F) / J_me, large only under clamp force, where the
-screw sticks through ``force_maintenance``.  There the window is cut and one-sided,
-and the quadratic term keeps the slope unbiased to first order.  The other phase
-boundaries (pad contact, the start from and the stop at the released rest) are
-thresholds on a smoothed speed and force, not kinks: cutting there, a one-sided
-window at a run's end, biased by the jerk of the motion, sets the speed at a block
-end (a third-world healthy unit: -0.02 N m on the inertia term of the last block of
-each release, read as -24 % of B).  Its noise follows from the
+whose slope b at t_i is the speed.  Samples enter a window only from the same
+phase run (:mod:`.phases`), so no window straddles a kink of the motion (pad
+contact, a stop); at the ends of a run the window is one-sided and the quadratic
+term keeps the slope unbiased to first order.  Its noise follows from the
 regression, var(b) = sigma_theta^2 [(X'X)^-1]_bb per sample.  The recorded
 velocity is not used by the model; its lag d and gain g against the angle speed,
 v_rec(t) = g w(t - d), are estimated (least squares over moving samples) and
@@ -122,7 +115,7 @@ def _before_each(seg: Segmentation) -> list[tuple[int, int, int]]:
 class Conventions:
     """What the recording's conventions are (module docstring), per sample where the model needs it."""
 
-    speed: np.ndarray  # screw speed from the angle, windows cut by speed_groups [rad/s]
+    speed: np.ndarray  # screw speed from the angle, per phase run [rad/s]
     speed_factor: np.ndarray  # var(speed) = speed_factor * sigma_angle^2 [1/s^2]
     sigma_angle: float  # white angle noise while moving [rad]
     rest_angle: np.ndarray  # released rest angle of each application [rad]
@@ -203,15 +196,9 @@ def _velocity_convention(rec: Resampled, speed: np.ndarray, moving: np.ndarray) 
             "velocity_gain": Estimate(g, float(np.sqrt(var_r / max(np.dot(w, w), 1e-300))), "-")}
 
 
-def speed_groups(seg: Segmentation) -> np.ndarray:
-    """Group id per sample of the speed regression (module docstring): each application, cut at the
-    ends of its ``force_maintenance`` runs, where the screw sticks under clamp force (004 eq. 9)."""
-    return run_ids((seg.phase == Phase.FORCE_MAINTENANCE).astype(np.int64), seg.cycle)
-
-
 def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WINDOW_S) -> Conventions:
     """Estimate every convention of the module docstring from ``rec`` and its phases ``seg``."""
-    speed, factor = angle_speed(rec, speed_groups(seg), window_s)
+    speed, factor = angle_speed(rec, run_ids(seg.phase, seg.cycle), window_s)
     sigma_w = signal_noise(speed)
     moving = np.abs(speed) > 5.0 * max(sigma_w, 1e-12)
     d2 = np.diff(rec.angle, 2)[moving[1:-1]]

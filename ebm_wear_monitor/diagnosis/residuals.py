@@ -25,8 +25,8 @@ R_T is "recorded motor torque minus the torque the model needs for the recorded
 motion and force"; positive means the real unit needed more torque (e.g. more
 friction) than the twin.  The speed w is the angle's own derivative
 (:mod:`.conventions`: a drive's velocity estimate lags, and at 8 N m of inertia
-torque a 1 ms lag is a friction-sized error), its windows cut where the screw
-sticks under load (:func:`.conventions.speed_groups`), not at every phase label.  J_me is 004 eq. 2.  The same block gives
+torque a 1 ms lag is a friction-sized error), taken within each phase run so that
+the block end points never sit on a kink.  J_me is 004 eq. 2.  The same block gives
 the twin's velocity error w_sim - w at t1 (= R_T (t1 - t0) / J_me) and its angle
 error at t1 (the integral of that velocity error over the block): the re-anchored
 short-horizon simulation of the velocity and angle signals.

@@ -3,8 +3,8 @@
 A drive's own velocity estimate (a filtered derivative, a moving average, an
 observer) lags the motion; the angle is the motion.  :func:`local_slope` fits
 theta(t) ~ a + b (t - t_i) + c (t - t_i)^2 by least squares over the samples within
-``half`` indices of sample i (optionally only those of the same group, so no window
-straddles a kink: :func:`.conventions.speed_groups`) and returns b with its variance factor
+``half`` indices of sample i (optionally only those of the same group, e.g. the same
+phase run, so no window straddles a kink) and returns b with its variance factor
 [(X'X)^-1]_bb: var(b) = factor * sigma_theta^2 for white angle noise.  The true
 stamps enter the regression, so stamp jitter does not bias the speed.
 """

@@ -397,8 +397,9 @@ def case_set(name: str) -> list[Case]:
     ``outside_o`` (from 62000), ``outside_p`` (from 65000) and ``outside_q`` (from 68000): registered
     at 6c6ded3 and first run blind with its diagnosis (the clearance entry per recording), more
     repeat draws.  ``full_s`` (seeds 69000 and 70000), ``full_t`` (72000 and 73000), ``outside_r``
-    (from 71000) and ``outside_s`` (from 74000): registered with the speed windows cut only where the
-    screw sticks under load (``diagnosis.conventions.speed_groups``), before their first run.
+    (from 71000) and ``outside_s`` (from 74000): registered at b2ba3f0, whose speed windows (cut only at
+    ``force_maintenance`` and applications) ran ``full_s`` and ``outside_r`` once and were reverted
+    (README, "Speed windows"); then all four run blind with the diagnosis of 5cc2c4d, unchanged.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
