@@ -11,19 +11,21 @@ moving out over the applications), which is.  The whole draws are in the README 
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+from third_case import third_diagnosis
 
 from ebm_wear_monitor.diagnosis.foreign_selftest import run_third
 from ebm_wear_monitor.errors import InputError
-from ebm_wear_monitor.validation.third.__main__ import main as write_world
 
 
 @pytest.fixture(scope="module")
 def third(tmp_path_factory):
-    out = tmp_path_factory.mktemp("third")
-    assert write_world(["write", "--out", str(out), "--seed", "3",
-                        "--only", "healthy_01,clearance_growth_1", "--jobs", "2"]) == 0
-    return run_third(out, jobs=2)
+    return third_diagnosis(tmp_path_factory.mktemp("third"), 3, "healthy_01", "clearance_growth_1", jobs=2)
 
 
 def test_a_healthy_unit_parking_short_of_its_rest_target_reads_none(third):
