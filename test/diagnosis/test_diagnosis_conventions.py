@@ -6,15 +6,11 @@ unit without an effect must stay ``none``.
 """
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.signal import lfilter
-
-sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
+from scipy.signal import lfilter
 
 from ebm_wear_monitor.diagnosis.conventions import park_half_band
 from ebm_wear_monitor.diagnosis.pipeline import analyse, residual_model

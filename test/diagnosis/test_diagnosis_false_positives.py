@@ -9,12 +9,8 @@ mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).  And the two healthy uni
 that are still named, kept as strict expected failures.
 """
 
-import sys
-from pathlib import Path
 
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from foreign_case import foreign_diagnosis
 from third_case import third_diagnosis
 

@@ -2,13 +2,8 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from foreign_case import foreign_diagnosis
 
 from ebm_wear_monitor.diagnosis.openset import Periodic, block_basis, periodic_structure

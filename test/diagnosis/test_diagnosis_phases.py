@@ -1,11 +1,7 @@
 """Phase and cycle labels of closed-form brake cycles (diag_synth): order and count are known."""
 
-import sys
-from pathlib import Path
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.phases import segment

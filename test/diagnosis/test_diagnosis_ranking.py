@@ -6,13 +6,9 @@ so each catalog effect must find its own parameters (an invariant, not a copied 
 
 import dataclasses
 import re
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 from foreign_case import foreign_diagnosis
 

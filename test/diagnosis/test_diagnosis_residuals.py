@@ -1,13 +1,9 @@
 """Residuals of the nominal twin vanish on data that obey 004 eq. 1-9 exactly; effects show where expected."""
 
-import sys
 from dataclasses import fields, replace
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import residual_model

@@ -5,13 +5,9 @@ the twin reads K_T (1 + g) I, so the data want g = -s, of which the budget allow
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis import scale

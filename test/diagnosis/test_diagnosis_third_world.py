@@ -11,12 +11,7 @@ moving out over the applications), which is.  The whole draws are in the README 
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from third_case import third_diagnosis
 
 from ebm_wear_monitor.diagnosis.foreign_selftest import run_third

@@ -4,14 +4,10 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 from dataclasses import asdict
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import FAULT_KINDS, MonitorConfig, MonitorCore, load_state, save_state

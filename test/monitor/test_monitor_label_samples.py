@@ -2,13 +2,8 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.domain.phases import Phase

@@ -17,13 +17,9 @@ next to the naive least-squares line.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from life_histories import calibrate, checkpoints, histories, observe, resolvable_at, track
 
 pytestmark = pytest.mark.slow

@@ -10,13 +10,9 @@ code, and with a controller that eases in.
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorCore

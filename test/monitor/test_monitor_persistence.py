@@ -12,8 +12,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-sys.path.insert(0, str(Path(__file__).parent))
 from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore, MonitorState, load_state, save_state

@@ -18,7 +18,6 @@ final snapshot and the persisted state must be equal, bit for bit.
 from __future__ import annotations
 
 import json
-import sys
 from dataclasses import asdict
 from pathlib import Path
 
@@ -26,13 +25,11 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from multirate_synth import RATES, recording
 
 from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore
 from ebm_wear_monitor.monitor.wire import decode_records, encode_records
 from ebm_wear_monitor.params import load_unit
-
-sys.path.insert(0, str(Path(__file__).parent))
-from multirate_synth import RATES, recording
 
 
 def encoded(rec: dict) -> dict[str, tuple[list[bytes], np.ndarray]]:

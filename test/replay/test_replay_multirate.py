@@ -11,18 +11,15 @@ application too.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from multirate_synth import recording
 
 from ebm_wear_monitor.bagio import BagWriter, Series, read_ground_truth
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.run import replay_bags
-
-sys.path.insert(0, str(Path(__file__).parent))
-from multirate_synth import recording
 
 NS = "/train5/car3/embu2"
 CYCLES = 6
