@@ -25,17 +25,8 @@ R_T is "recorded motor torque minus the torque the model needs for the recorded
 motion and force"; positive means the real unit needed more torque (e.g. more
 friction) than the twin.  The speed w is the angle's own derivative
 (:mod:`.conventions`: a drive's velocity estimate lags, and at 8 N m of inertia
-torque a 1 ms lag is a friction-sized error), a local quadratic regression taken
-within each phase run so that no window straddles a phase change.  Within a run the
-acceleration still changes (the pads touch, a position loop brakes), and there the
-regression's slope lags or leads the speed by up to dA h / 4 (a step dA of the
-acceleration inside a window of half-length h).  In J_me (w(t1) - w(t0)) the speed is
-therefore corrected by the bias the twin itself predicts from the recorded current and
-force (:meth:`ResidualModel._regression_bias`).  Without it a healthy unit of the
-independently written foreign generator at 250 Hz (``full_r`` none_r018) read a viscous
-change of -64 % +- 17 % of B: with that generator's true speed in the inertia term the same
-fit read +15 % +- 16 %, with its true speed in the friction term only -62 %, and with its
-true current -69 %.  J_me is 004 eq. 2.  The same block gives
+torque a 1 ms lag is a friction-sized error), taken within each phase run so that
+the block end points never sit on a kink.  J_me is 004 eq. 2.  The same block gives
 the twin's velocity error w_sim - w at t1 (= R_T (t1 - t0) / J_me) and its angle
 error at t1 (the integral of that velocity error over the block): the re-anchored
 short-horizon simulation of the velocity and angle signals.
@@ -100,7 +91,7 @@ from ebm_wear_monitor.diagnosis.conventions import Conventions
 from ebm_wear_monitor.diagnosis.noise import quantum, signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
-from ebm_wear_monitor.diagnosis.speed import local_slope, window_half
+from ebm_wear_monitor.diagnosis.speed import WINDOW_S
 from ebm_wear_monitor.domain.segmentation import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
@@ -328,53 +319,13 @@ class ResidualModel:
             raise InputError(f"{rec.unit}: too short for the diagnosis ({self.blocks.size} blocks)")
         b = self.blocks
         self._dt_block = rec.t[b.stop] - rec.t[b.start]
+        self._dw_block = self.w_m[b.stop] - self.w_m[b.start]
+        self.unresolved_torque = self._unresolved_torque()
+        self.ambiguous_torque = self._ambiguous_torque()
         self.drive_torque_nominal = nominal.torque_constant * rec.current  # 004 eq. 7 [N m]
         self._h = np.diff(rec.t)  # sample intervals [s]
         self._signals = {"force": self.force, "current": rec.current, "travel": self.x}
         self._residuals, self._shifted = Memo(self.MEMO_RESIDUALS), Memo(self.MEMO_SIGNALS)
-        #: motor speed for the inertia term J_me dw: the regression's bias the twin predicts taken out [rad/s]
-        self.w_inertia = self.w_m - self._regression_bias()
-        self._dw_block = self.w_inertia[b.stop] - self.w_inertia[b.start]
-        self.unresolved_torque = self._unresolved_torque()
-        self.ambiguous_torque = self._ambiguous_torque()
-
-    def _regression_bias(self) -> np.ndarray:
-        """Bias of the angle's speed regression (:mod:`.speed`) that the twin predicts [rad/s, motor].
-
-        The local quadratic fit is exact while the acceleration is constant; where it changes within
-        the window (the pads touching, a position loop braking) the slope lags or leads.  The twin's
-        own acceleration, a = (K_T I - T_L(F) - T_f) / J_me (004 eqs. 1, 7, 9 at the nominal parameters,
-        along the recorded current, force and direction of motion), has a speed v = int a dt and an
-        angle int v dt; the same regression (same window, same phase runs) applied to that angle
-        returns v plus the regression's response to a's changes, and minus v that is the bias.  The
-        recorded speed carries it wherever the twin's acceleration has the recorded one's shape; an
-        effect changes a by a smooth torque of the size of a friction term, whose response is small.
-        At rest the stick branch of eq. 9 applies: the rotor stays unless K_T I - T_L exceeds the
-        breakaway torque T_fs + G F (a start that the moving mask, set by the speed's noise, does not
-        see yet), and then takes the excess over T_fs + G F (a simplification: once broken away eq. 9
-        slides with T_fc + G F, so those few samples' acceleration is low by (T_fs - T_fc) / J_me).
-        The stick branch of :meth:`friction` keeps the regression's own J_me dw/dt, so a block at rest
-        next to a motion carries J_me (bias(t1) - bias(t0)) / dt_b instead of zero: a constant that no
-        fitted parameter moves (on ``full_r`` none_r018, 397 of 1857 rest blocks, z RMS 0.32, at most
-        4.6).  Only the inertia term uses the corrected speed: the friction's speed dependence
-        is smooth (``full_r`` none_r018 of the module docstring read the same with the true speed
-        there), and the lost-motion test (:mod:`.play`) measures where the twin's acceleration is wrong by
-        construction (the motor crossing a play unloaded), so it keeps the regression's speed.
-        """
-        rec, n = self.rec, self.nominal
-        drive = self.drive(NOMINAL)
-        T_L = n.load_torque(self.force)
-        kinetic = kinetic_friction(n, NOMINAL, self.w_m, self.force, sign=self.sign, speed=self.speed)
-        # at rest eq. 9's stick branch: the rotor stays unless the net drive exceeds the breakaway torque
-        push = drive - T_L
-        breakaway = n.friction.static + n.friction.load_coefficient * np.abs(self.force)
-        slip = np.sign(push) * np.maximum(np.abs(push) - breakaway, 0.0)
-        a = np.where(self.moving, drive - T_L - kinetic, slip) / n.inertia
-        v = self._cumulative(a)
-        v_est, _ = local_slope(rec.t, self._cumulative(v), window_half(rec.dt),
-                               run_ids(self.seg.phase, self.seg.cycle))
-        bias: np.ndarray = v_est - v
-        return bias
 
     def _current_jumps(self) -> np.ndarray:
         """|dI| of each sample interval beyond three standard deviations of its noise [A] (zero otherwise)."""
@@ -394,9 +345,7 @@ class ResidualModel:
         angle's speed is a regression over a window of half-length h (:mod:`.speed`); a step dA of
         the acceleration inside the window, which a current jump dI makes (dA = K_T dI / J_me, 004
         eq. 1), biases that speed by up to dA h / 4: the block's J_me dw / dt_b then carries
-        J_me (dA h / 4) / dt_b at each end, i.e. K_T dI h / (4 dt_b) (the inertia term's speed is
-        corrected by the bias the twin predicts, :meth:`_regression_bias`, but a jump the current's
-        sampling does not resolve is not in that prediction either).  Only the part of each |dI|
+        J_me (dA h / 4) / dt_b at each end, i.e. K_T dI h / (4 dt_b).  Only the part of each |dI|
         above three standard deviations of the current noise counts (sqrt 2 sigma_I per difference).
         A motion that stops makes such a step too: the stick branch of eq. 9 takes over and the
         deceleration the rotor had, J_me |dw/dt| on the moving side (the largest within the window),
@@ -410,7 +359,7 @@ class ResidualModel:
         h = np.maximum(np.diff(rec.t), rec.interval("current"))
         err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
         integral = n.torque_constant * (err[b.stop] - err[b.start]) / self._dt_block
-        half = window_half(rec.dt)
+        half = max(2, round(0.5 * WINDOW_S / rec.dt))
 
         def window_max(y: np.ndarray) -> np.ndarray:  # max of y over the speed window around each sample
             padded = np.concatenate((np.zeros(half), y, np.zeros(half + 1 + rec.t.size - y.size)))
@@ -530,11 +479,7 @@ class ResidualModel:
             net = drive - T_L - T_f
         else:
             net = drive - self.nominal.load_torque(self.load_force(aug))
-        return self._cumulative(net)
-
-    def _cumulative(self, y: np.ndarray) -> np.ndarray:
-        """Cumulative trapezoid integral of the per-sample ``y`` from the first sample [unit of y x s]."""
-        return np.concatenate(([0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * self._h)))
+        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * self._h)))
 
     def held_torque(self, aug: Augment) -> np.ndarray:
         """Per block, the torque the friction must take for the recorded motion and force [N m]: R_T with
@@ -586,11 +531,10 @@ class ResidualModel:
         n, b = self.nominal, self.blocks
         C = self._net_integral(aug)
         torque = self.torque_residual(aug, C)
-        # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J (w the inertia term's
-        # speed, as in R_T); its integral:
-        w = self.w_inertia
-        D = self._cumulative(C / n.inertia - w)
-        angle_err = (D[b.stop] - D[b.start]) + (w[b.start] - C[b.start] / n.inertia) * self._dt_block
+        # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
+        g = C / n.inertia - self.w_m
+        D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * self._h)))
+        angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.inertia) * self._dt_block
         return {
             "current": -torque / n.torque_constant,
             "velocity": torque * self._dt_block / n.inertia / n.gear_ratio,

@@ -402,9 +402,9 @@ def case_set(name: str) -> list[Case]:
     (from 71000) and ``outside_s`` (from 74000): registered at b2ba3f0, whose speed windows (cut only at
     ``force_maintenance`` and applications) ran ``full_s`` and ``outside_r`` once and were reverted
     (README, "Speed windows"); then all four run blind with the diagnosis of 5cc2c4d, unchanged.
-    ``full_u`` (seeds 75000 and 76000) and ``outside_t`` (from 77000): registered with the inertia term's
-    speed corrected by the regression bias the twin predicts (``diagnosis/residuals.py``) and first run
-    blind with it.
+    ``full_u`` (seeds 75000 and 76000) and ``outside_t`` (from 77000): registered at 1ef3c1a and first run
+    blind with its inertia-term speed corrected by the regression bias the twin predicts (README,
+    "Speed windows"; reverted in the next commit after the whole-draw run), then with the kept diagnosis.
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
