@@ -402,7 +402,7 @@ def case_set(name: str) -> list[Case]:
     (from 71000) and ``outside_s`` (from 74000): registered at b2ba3f0, whose speed windows (cut only at
     ``force_maintenance`` and applications) ran ``full_s`` and ``outside_r`` once and were reverted
     (README, "Speed windows"); then all four run blind with the diagnosis of 5cc2c4d, unchanged.
-    ``full_u`` (seeds 75000 and 76000) and ``outside_t`` (from 77000): registered at 1ef3c1a and first run
+    ``full_u`` (seeds 75000 and 76000) and ``outside_t`` (from 77000): registered at 32f3bdf and first run
     blind with its inertia-term speed corrected by the regression bias the twin predicts (README,
     "Speed windows"; reverted in the next commit after the whole-draw run), then with the kept diagnosis.
     ``multirate``: 6 recordings with angle and
