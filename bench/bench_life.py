@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ebm_wear_monitor.replay.prognostics import prognostics_metrics
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "test" / "monitor"))
 from life_histories import baseline, calibrate, checkpoints, histories, observe, resolvable_at, track
-
-from ebm_wear_monitor.replay.prognostics import prognostics_metrics
 
 FAMILIES = ("linear", "exponential", "climbing", "slow")
 ALARM_CYCLES = 1000.0

@@ -91,7 +91,7 @@ from ebm_wear_monitor.diagnosis.conventions import Conventions
 from ebm_wear_monitor.diagnosis.noise import quantum, signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
-from ebm_wear_monitor.diagnosis.speed import WINDOW_S
+from ebm_wear_monitor.diagnosis.speed import window_half
 from ebm_wear_monitor.domain.segmentation import run_ids, run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.twin.clamp import STIFFENING_REFERENCE_FORCE, ClampLaw
@@ -359,7 +359,7 @@ class ResidualModel:
         h = np.maximum(np.diff(rec.t), rec.interval("current"))
         err = np.concatenate(([0.0], np.cumsum(jump * h / (2.0 * math.sqrt(3.0)))))
         integral = n.torque_constant * (err[b.stop] - err[b.start]) / self._dt_block
-        half = max(2, round(0.5 * WINDOW_S / rec.dt))
+        half = window_half(rec.dt)
 
         def window_max(y: np.ndarray) -> np.ndarray:  # max of y over the speed window around each sample
             padded = np.concatenate((np.zeros(half), y, np.zeros(half + 1 + rec.t.size - y.size)))

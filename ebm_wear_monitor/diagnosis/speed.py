@@ -62,8 +62,13 @@ def local_slope(t: np.ndarray, y: np.ndarray, half: int, group: np.ndarray | Non
     return slope / scale, factor / scale**2
 
 
+def window_half(dt: float, window_s: float = WINDOW_S) -> int:
+    """Half-length h of the regression window in samples: ``window_s`` / 2 at sample interval ``dt`` [s],
+    at least 2 (a window of 2 h + 1 samples)."""
+    return max(2, round(0.5 * window_s / dt))
+
+
 def angle_speed(rec: Resampled, group: np.ndarray | None = None, window_s: float = WINDOW_S
                 ) -> tuple[np.ndarray, np.ndarray]:
     """Screw speed [rad/s] from the angle by :func:`local_slope` and its variance factor [1/s^2]."""
-    half = max(2, round(0.5 * window_s / rec.dt))
-    return local_slope(rec.t, rec.angle, half, group)
+    return local_slope(rec.t, rec.angle, window_half(rec.dt, window_s), group)

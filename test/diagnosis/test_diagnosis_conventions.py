@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-from diag_synth import synth
 from scipy.signal import lfilter
 
 from ebm_wear_monitor.diagnosis.conventions import park_half_band
@@ -18,6 +17,8 @@ from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import WINDOW_S, local_slope
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 UNIT = load_unit()
 NOM = actuator_model(UNIT)

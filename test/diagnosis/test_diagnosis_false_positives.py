@@ -9,10 +9,7 @@ mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).  And the two healthy uni
 that are still named, kept as strict expected failures.
 """
 
-
 import pytest
-from foreign_case import foreign_diagnosis
-from third_case import third_diagnosis
 
 from ebm_wear_monitor.diagnosis.pipeline import analyse
 from ebm_wear_monitor.diagnosis.recording import Resampled
@@ -20,6 +17,9 @@ from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin import simulate_unit
+
+from foreign_case import foreign_diagnosis
+from third_case import third_diagnosis
 
 DEMANDS = (8e3, 14e3, 20e3, 26e3)
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from foreign_case import foreign_diagnosis
 
 from ebm_wear_monitor.diagnosis.openset import Periodic, block_basis, periodic_structure
 from ebm_wear_monitor.diagnosis.ranking import open_set_verdict
+
+from foreign_case import foreign_diagnosis
 
 LEVEL = 0.05 / 4
 

@@ -1,13 +1,13 @@
 """Phase and cycle labels of closed-form brake cycles (diag_synth): order and count are known."""
 
-
 import numpy as np
-from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.phases import segment
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 
 def test_cycles_and_phase_order():

@@ -8,7 +8,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state, residual_model, summary
@@ -20,6 +19,8 @@ from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 NOM = actuator_model(load_unit())
 X_AG = NOM.clamp.clearance

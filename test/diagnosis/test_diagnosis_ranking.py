@@ -9,8 +9,6 @@ import re
 
 import numpy as np
 import pytest
-from diag_synth import synth
-from foreign_case import foreign_diagnosis
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
@@ -30,6 +28,9 @@ from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
+from foreign_case import foreign_diagnosis
 
 NOM = actuator_model(load_unit())
 

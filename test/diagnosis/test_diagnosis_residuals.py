@@ -4,7 +4,6 @@ from dataclasses import fields, replace
 
 import numpy as np
 import pytest
-from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.pipeline import residual_model
 from ebm_wear_monitor.diagnosis.recording import Resampled, recording_from_signals
@@ -13,6 +12,8 @@ from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 QUIET = {"angle": 0.0, "velocity": 0.0, "axial_force": 0.0, "current": 0.0}
 

@@ -8,7 +8,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis import scale
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
@@ -28,6 +27,8 @@ from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.schema.diagnose import UnitDiagnosis
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 NOM = actuator_model(load_unit())
 CYCLES = 16

@@ -6,7 +6,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-from diag_synth import synth
 
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
@@ -15,6 +14,8 @@ from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.diagnosis.stick import RestTorque, band_excess, rest_noise, rest_torque
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.twin.dynamics import actuator_model
+
+from diag_synth import synth
 
 NOM = actuator_model(load_unit())
 BRISK = (0.1, 0.14)  # applications as short as a brisk ECU makes them [s]

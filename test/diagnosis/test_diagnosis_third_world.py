@@ -12,10 +12,11 @@ moving out over the applications), which is.  The whole draws are in the README 
 from __future__ import annotations
 
 import pytest
-from third_case import third_diagnosis
 
 from ebm_wear_monitor.diagnosis.foreign_selftest import run_third
 from ebm_wear_monitor.errors import InputError
+
+from third_case import third_diagnosis
 
 
 @pytest.fixture(scope="module")

@@ -8,10 +8,11 @@ from dataclasses import asdict
 
 import numpy as np
 import pytest
-from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import FAULT_KINDS, MonitorConfig, MonitorCore, load_state, save_state
 from ebm_wear_monitor.physics import clearance_growth, wear_model
+
+from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 
 def _faulty_arrivals(synth):

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.domain.segmentation import run_starts
 from ebm_wear_monitor.errors import InputError
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore
 from ebm_wear_monitor.monitor.segmentation import CE, FG, FM, FR, label_samples
+
+from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 
 def _labels(unit, synth, config=None):

@@ -20,6 +20,7 @@ import math
 
 import numpy as np
 import pytest
+
 from life_histories import calibrate, checkpoints, histories, observe, resolvable_at, track
 
 pytestmark = pytest.mark.slow

@@ -13,10 +13,11 @@ import math
 
 import numpy as np
 import pytest
-from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorCore
 from ebm_wear_monitor.params import load_unit
+
+from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 
 def _lagged(force: np.ndarray, dt: float, tau: float) -> np.ndarray:

@@ -12,10 +12,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore, MonitorState, load_state, save_state
 from ebm_wear_monitor.monitor.persistence import backup_path
+
+from monitor_synth import linear_rates, screw_growth, synth_cycles
 
 KW = {"wear_rates": linear_rates(1e-9), "clearance_growth": screw_growth}
 

@@ -6,9 +6,10 @@ import math
 
 import numpy as np
 import pytest
-from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 from ebm_wear_monitor.monitor import MonitorConfig, MonitorCore
+
+from monitor_synth import linear_rates, move_profile, screw_growth, synth_cycles
 
 
 def _run(unit, synth, **kw):

@@ -25,11 +25,12 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from multirate_synth import RATES, recording
 
 from ebm_wear_monitor.monitor import Batch, Feeder, MonitorCore
 from ebm_wear_monitor.monitor.wire import decode_records, encode_records
 from ebm_wear_monitor.params import load_unit
+
+from multirate_synth import RATES, recording
 
 
 def encoded(rec: dict) -> dict[str, tuple[list[bytes], np.ndarray]]:

@@ -15,11 +15,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from multirate_synth import recording
 
 from ebm_wear_monitor.bagio import BagWriter, Series, read_ground_truth
 from ebm_wear_monitor.params import load_unit
 from ebm_wear_monitor.replay.run import replay_bags
+
+from multirate_synth import recording
 
 NS = "/train5/car3/embu2"
 CYCLES = 6
