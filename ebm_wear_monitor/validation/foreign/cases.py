@@ -410,8 +410,8 @@ def case_set(name: str) -> list[Case]:
     ``full_v`` (seeds 78000 and 79000) and ``outside_u`` (from 80000): registered at 85451b2 and first run
     blind with its diagnosis (5cc2c4d's verdict code), then with rules screened and not kept (README, "The
     current's noise and steps").  ``full_w`` (seeds 81000 and 82000) and ``outside_v`` (from 83000):
-    registered at the revision after 85451b2 and first run blind with a candidate not on main (both speed
-    treatments for materiality; README).
+    registered at 5d6992c and first run blind with a candidate not on main (branch ``candidate-e``: both
+    speed treatments for materiality; README), then with the kept diagnosis (5cc2c4d's verdict code).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
