@@ -479,7 +479,11 @@ class ResidualModel:
             net = drive - T_L - T_f
         else:
             net = drive - self.nominal.load_torque(self.load_force(aug))
-        return np.concatenate(([0.0], np.cumsum(0.5 * (net[1:] + net[:-1]) * self._h)))
+        return self._cumulative(net)
+
+    def _cumulative(self, y: np.ndarray) -> np.ndarray:
+        """Cumulative trapezoid integral of the per-sample ``y`` from the first sample [unit of y x s]."""
+        return np.concatenate(([0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * self._h)))
 
     def held_torque(self, aug: Augment) -> np.ndarray:
         """Per block, the torque the friction must take for the recorded motion and force [N m]: R_T with
@@ -532,8 +536,7 @@ class ResidualModel:
         C = self._net_integral(aug)
         torque = self.torque_residual(aug, C)
         # velocity error inside each block e(t) = w(t0) - w(t) + (C(t) - C(t0)) / J; its integral:
-        g = C / n.inertia - self.w_m
-        D = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * self._h)))
+        D = self._cumulative(C / n.inertia - self.w_m)
         angle_err = (D[b.stop] - D[b.start]) + (self.w_m[b.start] - C[b.start] / n.inertia) * self._dt_block
         return {
             "current": -torque / n.torque_constant,
