@@ -339,7 +339,8 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_t": (72000, 73000, "none_t"),
          "full_u": (75000, 76000, "none_u"),
          "full_v": (78000, 79000, "none_v"),
-         "full_w": (81000, 82000, "none_w")}  # "none_q" is the quick set's prefix, hence "none_q2"
+         "full_w": (81000, 82000, "none_w"),
+         "full_x": (84000, 85000, "none_x")}  # "none_q" is the quick set's prefix, hence "none_q2"
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
@@ -347,7 +348,8 @@ OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outs
                  "outside_k": 50000, "outside_l": 53000, "outside_m": 56000,
                  "outside_n": 59000, "outside_o": 62000, "outside_p": 65000,
                  "outside_q": 68000, "outside_r": 71000, "outside_s": 74000,
-                 "outside_t": 77000, "outside_u": 80000, "outside_v": 83000}
+                 "outside_t": 77000, "outside_u": 80000, "outside_v": 83000,
+                 "outside_w": 86000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -412,6 +414,9 @@ def case_set(name: str) -> list[Case]:
     current's noise and steps").  ``full_w`` (seeds 81000 and 82000) and ``outside_v`` (from 83000):
     registered at 5d6992c and first run blind with a candidate not on main (branch ``candidate-e``: both
     speed treatments for materiality; README), then with the kept diagnosis (5cc2c4d's verdict code).
+    ``full_x`` (seeds 84000 and 85000) and ``outside_w`` (from 86000): registered on top of 420257f before
+    any run, with third-world seeds 18 and 19, and first run blind with the kept diagnosis (5cc2c4d's
+    verdict code).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
