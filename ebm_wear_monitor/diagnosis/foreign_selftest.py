@@ -115,7 +115,7 @@ def diagnose_bag(bag: Path, truth: dict, unit: UnitParams | None = None, name: s
         top2_ok=bool(expected) and bool(expected & set(ranked[:2])),
         pair_ok=kind == "pair" and set(res.effects) == expected,
         where=[res.where.phase, res.where.signal],
-        seconds=time.perf_counter() - t0)
+        seconds=time.perf_counter() - t0, sampling_caution=bool(res.sampling_caution))
 
 
 def _third_case(case_dir: str, unit: UnitParams | None) -> ForeignCaseResult:

@@ -41,6 +41,7 @@ from ebm_wear_monitor.diagnosis.ranking import (
     nominal_sse,
     rank,
     ranked_fits,
+    sampling_caution,
     separating_experiment,
 )
 from ebm_wear_monitor.diagnosis.recording import Resampled
@@ -193,7 +194,8 @@ def summary(ranking: Ranking) -> str:
         assert joint is not None  # an "effect" verdict rests on the selected effects fitted together
         alike = "".join(_look_alike(ranking, f) for f in ranking.selected if f.effect.look_alike)
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
-                f"{100.0 * joint.shrink:.0f} % of the {gap}{_material_closed(ranking, joint)}.{alike}")
+                f"{100.0 * joint.shrink:.0f} % of the {gap}{_material_closed(ranking, joint)}.{alike}"
+                f"{_sampling_words(ranking)}")
     o = ranking.open_set
     if o is not None and o.decided:
         torque = (f"a torque that depends on where the screw is ({1e3 * o.periodic.rms:.0f} ± "
@@ -260,11 +262,39 @@ def summary(ranking: Ranking) -> str:
             f"{_nearest(ranking)}")
 
 
+def cautioned(ranking: Ranking) -> list[str]:
+    """The named effects whose size, fitted alone, the transients the sampling does not resolve could take
+    under its floor at the worst (:func:`.ranking.sampling_caution`), in the order named."""
+    if ranking.verdict != "effect":
+        return []
+    alone = {f.effect.name: f for f in ranking.fits}
+    return [f.effect.name for f in ranking.selected
+            if f.effect.name in alone and sampling_caution(alone[f.effect.name])]
+
+
+def _sampling_words(ranking: Ranking) -> str:
+    """The caution of :func:`cautioned` in plain words, with each effect's worst-case change (empty when
+    there is none)."""
+    alone = {f.effect.name: f for f in ranking.fits}
+    words = [f"the {name.replace('_', ' ')} by up to {_size_words(alone[name], alone[name].sampling or 0.0)}"
+             for name in cautioned(ranking)]
+    if not words:
+        return ""
+    return (" Caution: at the worst, transients the sampling does not resolve could move "
+            f"{' and '.join(words)}, enough to take it under its detectability floor; a recording sampled "
+            "faster would settle it.")
+
+
+def _size_words(f: EffectFit, size: float) -> str:
+    """A size of effect ``f`` in the unit people read (µm, or % of the quantity it is a fraction of)."""
+    if f.effect.size_unit == "m":
+        return f"{1e6 * size:.1f} µm"
+    return f"{100.0 * size:.0f} % ({f.effect.size_meaning})"
+
+
 def _floor_words(f: EffectFit) -> str:
     """An effect's detectability floor (:mod:`.tolerance`) in the unit people read."""
-    if f.effect.size_unit == "m":
-        return f"{1e6 * f.floor:.1f} µm"
-    return f"{100.0 * f.floor:.0f} % ({f.effect.size_meaning})"
+    return _size_words(f, f.floor)
 
 
 def _nearest(ranking: Ranking) -> str:
@@ -357,6 +387,7 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
         torque_scale=scale_report(ranking),
         rest_torque=rest_report(ranking),
         lost_motion=play_report(ranking),
+        sampling_caution=tuple(cautioned(ranking)),
     ), sc, ranking)
 
 

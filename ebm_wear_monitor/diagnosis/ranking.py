@@ -426,6 +426,17 @@ class Scorer:
         """:meth:`z_raw` of ``m.aug`` plus the tolerance deviations ``m.t`` through their responses."""
         return self.z_raw(m.aug, mask, channels) + self.D[self.rows(mask, channels)] @ m.t
 
+    def unresolved(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
+        """Per row of :meth:`z_raw`, the bound on |dz| of what the sampling does not resolve: a torque row's
+        unresolved-transient and stick-or-slip torque (:mod:`.residuals`) over its block noise, 0 on force
+        rows (each below 1: that torque is part of the block noise, :func:`sensor_noise`)."""
+        model = self.model
+        extra = np.hypot(model.unresolved_torque, model.ambiguous_torque) / self.sigma_torque
+        parts = [extra[self.valid(mask, "torque")]] if "torque" in channels else []
+        if "force" in channels:
+            parts.append(np.zeros(int(self.valid(mask, "force").sum())))
+        return np.concatenate(parts)
+
     def row_cycles(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         c = self.model.blocks.cycle
         return np.concatenate([c[self.valid(mask, ch)] for ch in channels])
@@ -601,6 +612,10 @@ class Fit:
     nuisance_std: dict[str, float]  # cluster-robust standard errors of the fitted nuisances
     z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # normalised residual of the fitted rows
     jac: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))  # dz/d(effect parameters), per unit
+    #: d(effect parameters)/dz of the fitted rows, linearised at the solution (everything fitted with them
+    #: free), and each row's bound |dz| of what the sampling does not resolve (:meth:`Scorer.unresolved`)
+    response: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    bound: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, ...]
@@ -710,7 +725,7 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
     return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
-               z, J[:, :k] / scale[:k])
+               z, J[:, :k] / scale[:k], np.linalg.pinv(J)[:k] * scale[:k, None], sc.unresolved(mask, seen))
 
 
 NUISANCE_ONLY = Effect("acquisition", "acquisition nuisances only", (), (), lambda p: NOMINAL, (), ((),),
@@ -757,6 +772,9 @@ class EffectFit:
     contribution: float = 0.0  # RMS change of the channel's prediction, share of its RMS signal
     drift: Drift | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
     ties: list[str] = field(default_factory=list)
+    #: worst-case change of the size by what the sampling does not resolve (:func:`sampling_bound`; of the
+    #: effect fitted alone; None: not computed, an effect fitted on top of another), in the size's unit
+    sampling: float | None = None
 
     @property
     def drifting(self) -> bool:
@@ -794,7 +812,7 @@ class EffectFit:
         return RankingEntry(
             effect=e.name, score=self.score, gap_after=self.gap_after, shrink=self.shrink,
             p_value=self.p_value, k=e.k, material=self.material, at_limit=self.at_limit, drift=self.drift,
-            size=Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor),
+            size=Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor, self.sampling),
             magnitude=e.magnitude(self.theta, self.stderr),
             parameters={p: Parameter(float(v), float(s), u)
                         for p, v, s, u in zip(e.params, self.theta, self.stderr, e.units, strict=True)})
@@ -808,6 +826,34 @@ def size_gradient(effect: Effect, theta: np.ndarray) -> np.ndarray:
         h[i] = max(1e-6 * abs(theta[i]), 1e-9 * effect.scale[i] + 1e-300)
         grad[i] = (effect.size(theta + h) - effect.size(theta - h)) / (2.0 * h[i])
     return grad
+
+
+def sampling_bound(effect: Effect, f: Fit) -> float | None:
+    """Worst-case change of the effect's size by the torque the sampling does not resolve [size unit].
+
+    Each moving block's torque residual may be off by up to e_b, the torque of the transients its samples
+    do not resolve and of the friction where stick and slip cannot be told apart (:mod:`.residuals`);
+    these errors share a sign within a transient and can line up with an effect's shape (a current jump
+    at every start reads like a drag at speed).  The fit, linearised at its solution, moves the size by
+    g' (J^+ dz) for a change dz of the normalised residual (J the fit's Jacobian, everything fitted with
+    the effect free; g = d size / d theta); over every |dz_b| <= e_b / sigma_b the largest change is
+
+        S = sum_b |g' J^+_b| e_b / sigma_b,
+
+    every row's error taking the sign that moves the size most (a bound, as the tolerances' worst case in
+    :mod:`.play`).  It is reported, not used by the verdict: at 1-2 kHz it is a few % of a size, at
+    200-250 Hz as large as the false positives the foreign generator's healthy units showed (README,
+    "The sampling's share of a size").  None for a fit without its linearisation (an effect fitted on top
+    of another, :func:`extend`)."""
+    if f.response.size == 0:
+        return None
+    return float(np.sum(np.abs(size_gradient(effect, f.theta) @ f.response) * f.bound))
+
+
+def sampling_caution(f: EffectFit) -> bool:
+    """The size's worst-case change by what the sampling does not resolve (:func:`sampling_bound`) exceeds
+    its margin over the floor, size - 1.645 std - floor: at the worst it could be under its floor."""
+    return f.sampling is not None and f.sampling > f.size - MATERIAL_Z * f.size_std - f.floor
 
 
 def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
@@ -837,6 +883,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
         ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = _size_std(effect, f.theta, f.stderr)
+    ef.sampling = sampling_bound(effect, f)
     ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)

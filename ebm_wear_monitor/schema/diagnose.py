@@ -76,6 +76,9 @@ class Size(Record):
     unit: str = quantity("", "unit of the size: '-' a fraction, 'm' metres", json="unit")
     meaning: str = quantity("", "what the size measures", json="meaning")
     floor: float = quantity(GIVEN, "detectability floor from the model-tolerance budget", json="floor")
+    sampling: float | None = quantity(GIVEN, "worst-case change of the size by the transients the sampling "
+                                      "does not resolve (reported, not judged; null: not computed)",
+                                      json="sampling", default=None)
 
 
 @dataclass(frozen=True)
@@ -309,6 +312,10 @@ class DiagnosisResult(Record):
     lost_motion: LostMotionTest | None = quantity(
         "", "friction over the extra clearance of the verdict's model: a play or a clearance (null: not "
         "tested, the verdict's effects hold no clearance growth)", json="lost_motion", default=None)
+    sampling_caution: tuple[str, ...] = quantity(
+        "", "named effects whose size, fitted alone, the transients the sampling does not resolve could take "
+        "under its floor at the worst (ranking's size.sampling above size - 1.645 std - floor): a caution, "
+        "not judged by the verdict", json="sampling_caution", default=())
 
 
 @dataclass(frozen=True)
@@ -414,6 +421,8 @@ class ForeignCaseResult(Record):
     pair_ok: bool = quantity("", "a two-effect case with both effects named", json="pair_ok")
     where: list[str | None] = quantity("", "[phase, signal] of where", json="where")
     seconds: float = quantity("s", "wall time of the case (writing the bag included)", json="seconds")
+    sampling_caution: bool = quantity("", "the verdict carries the sampling caution (DiagnosisResult's "
+                                      "sampling_caution not empty)", json="sampling_caution", default=False)
 
 
 @dataclass(frozen=True)
