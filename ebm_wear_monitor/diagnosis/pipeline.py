@@ -276,20 +276,22 @@ def _sampling_words(ranking: Ranking) -> str:
     """The caution of :func:`cautioned` in plain words, with each effect's worst-case change (empty when
     there is none)."""
     alone = {f.effect.name: f for f in ranking.fits}
+    names = cautioned(ranking)
     words = [f"the {name.replace('_', ' ')} by up to {_size_words(alone[name], alone[name].sampling or 0.0)}"
-             for name in cautioned(ranking)]
+             for name in names]
     if not words:
         return ""
-    return (" Caution: at the worst, transients the sampling does not resolve could move "
-            f"{' and '.join(words)}, enough to take it under its detectability floor; a recording sampled "
-            "faster would settle it.")
+    it, its = ("them", "their") if len(words) > 1 else ("it", "its")
+    return (" Caution: at the worst, transients the sampling does not resolve (current steps, speed changes "
+            f"between samples) could move {' and '.join(words)}, enough to take {it} under {its} "
+            "detectability floor (README, \"The sampling's share of a size\").")
 
 
 def _size_words(f: EffectFit, size: float) -> str:
     """A size of effect ``f`` in the unit people read (µm, or % of the quantity it is a fraction of)."""
     if f.effect.size_unit == "m":
         return f"{1e6 * size:.1f} µm"
-    return f"{100.0 * size:.0f} % ({f.effect.size_meaning})"
+    return f"{100.0 * size:.{0 if size >= 0.01 else 1}f} % ({f.effect.size_meaning})"
 
 
 def _floor_words(f: EffectFit) -> str:

@@ -301,6 +301,8 @@ class Scorer:
     #: only where that exceeds 1 (:meth:`unexplained_share`), torque [N m], force [N]
     sensor_sigma: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
     cache: dict = field(default_factory=dict, compare=False, repr=False)  # fits shared by the effects
+    #: c_E of :meth:`noise_scale`: how far the residuals show the unresolved-transient torque (1: unscaled)
+    transient_scale: float = 1.0
 
     @classmethod
     def sensors(cls, model: ResidualModel) -> Scorer:
@@ -383,7 +385,7 @@ class Scorer:
         spread = spread_all * (b.phase != Phase.IDLE)
         sc = type(self)(model, self.split, np.hypot(c_t * s_t, c_e * extra_t), np.hypot(c_f * s_f, spread),
                     self.nuisances, sensor_sigma=(np.hypot(max(c_t, 1.0) * s_t, extra_t),
-                                                  np.hypot(max(c_f, 1.0) * s_f, spread)))
+                                                  np.hypot(max(c_f, 1.0) * s_f, spread)), transient_scale=c_e)
         sc = dataclasses.replace(sc, D=sc.responses(self.base.aug))
         base, std = fit_base(sc, self.base)
         return dataclasses.replace(sc, base=base, base_std=std)
@@ -428,10 +430,13 @@ class Scorer:
 
     def unresolved(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Per row of :meth:`z_raw`, the bound on |dz| of what the sampling does not resolve: a torque row's
-        unresolved-transient and stick-or-slip torque (:mod:`.residuals`) over its block noise, 0 on force
-        rows (each below 1: that torque is part of the block noise, :func:`sensor_noise`)."""
+        unresolved-transient and stick-or-slip torque (:mod:`.residuals`) as the residuals show it (times
+        c_E of :meth:`noise_scale`; the torque itself is a bound, not a standard deviation, and overstates
+        the scatter up to ten times) over its block noise, of which it is a part (so at most 1); 0 on force
+        rows."""
         model = self.model
-        extra = np.hypot(model.unresolved_torque, model.ambiguous_torque) / self.sigma_torque
+        shown = self.transient_scale * np.hypot(model.unresolved_torque, model.ambiguous_torque)
+        extra = shown / self.sigma_torque
         parts = [extra[self.valid(mask, "torque")]] if "torque" in channels else []
         if "force" in channels:
             parts.append(np.zeros(int(self.valid(mask, "force").sum())))
@@ -613,7 +618,8 @@ class Fit:
     z: np.ndarray = field(default_factory=lambda: np.zeros(0))  # normalised residual of the fitted rows
     jac: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))  # dz/d(effect parameters), per unit
     #: d(effect parameters)/dz of the fitted rows, linearised at the solution (everything fitted with them
-    #: free), and each row's bound |dz| of what the sampling does not resolve (:meth:`Scorer.unresolved`)
+    #: that is off its bounds free: :func:`_response`), and each row's bound |dz| of what the sampling does
+    #: not resolve (:meth:`Scorer.unresolved`)
     response: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     bound: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
@@ -725,7 +731,21 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
     return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
-               z, J[:, :k] / scale[:k], np.linalg.pinv(J)[:k] * scale[:k, None], sc.unresolved(mask, seen))
+               z, J[:, :k] / scale[:k], _response(J, best.active_mask, k) * scale[:k, None],
+               sc.unresolved(mask, seen))
+
+
+def _response(J: np.ndarray, active: np.ndarray, k: int) -> np.ndarray:
+    """d u / d z of the first ``k`` parameters of a least-squares solution with Jacobian ``J`` (rows x
+    parameters, scaled): minus the pseudo-inverse's rows of the parameters off their bounds, zero for those
+    held on one (``active`` non-zero, scipy's ``active_mask``), which a small change of z leaves there."""
+    free = np.flatnonzero(active == 0)
+    out = np.zeros((k, J.shape[0]))
+    inverse = np.linalg.pinv(J[:, free])
+    for row, col in enumerate(free):
+        if col < k:
+            out[col] = -inverse[row]
+    return out
 
 
 NUISANCE_ONLY = Effect("acquisition", "acquisition nuisances only", (), (), lambda p: NOMINAL, (), ((),),
@@ -773,7 +793,7 @@ class EffectFit:
     drift: Drift | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
     ties: list[str] = field(default_factory=list)
     #: worst-case change of the size by what the sampling does not resolve (:func:`sampling_bound`; of the
-    #: effect fitted alone; None: not computed, an effect fitted on top of another), in the size's unit
+    #: effect fitted alone; None: not computed), in the size's unit
     sampling: float | None = None
 
     @property
@@ -831,29 +851,32 @@ def size_gradient(effect: Effect, theta: np.ndarray) -> np.ndarray:
 def sampling_bound(effect: Effect, f: Fit) -> float | None:
     """Worst-case change of the effect's size by the torque the sampling does not resolve [size unit].
 
-    Each moving block's torque residual may be off by up to e_b, the torque of the transients its samples
-    do not resolve and of the friction where stick and slip cannot be told apart (:mod:`.residuals`);
-    these errors share a sign within a transient and can line up with an effect's shape (a current jump
-    at every start reads like a drag at speed).  The fit, linearised at its solution, moves the size by
-    g' (J^+ dz) for a change dz of the normalised residual (J the fit's Jacobian, everything fitted with
-    the effect free; g = d size / d theta); over every |dz_b| <= e_b / sigma_b the largest change is
+    Each torque row (block) of the fit may be off by up to e_b, the torque of the transients its samples
+    do not resolve and of the friction where stick and slip cannot be told apart (:mod:`.residuals`),
+    scaled by c_E, how far the residuals show it (:meth:`Scorer.unresolved`); these errors share a sign
+    within a transient and can line up with an effect's shape (a current jump at every start reads like
+    a drag at speed).  The fit, linearised at its solution, moves the size by -g' (J^+ dz) for a change dz
+    of the normalised residual (J the fit's Jacobian over the parameters off their bounds, everything
+    fitted with the effect; g = d size / d theta); over every |dz_b| <= c_E e_b / sigma_b the largest
+    change is
 
-        S = sum_b |g' J^+_b| e_b / sigma_b,
+        S = sum_b |g' J^+_b| c_E e_b / sigma_b,
 
-    every row's error taking the sign that moves the size most (a bound, as the tolerances' worst case in
-    :mod:`.play`).  It is reported, not used by the verdict: at 1-2 kHz it is a few % of a size, at
-    200-250 Hz as large as the false positives the foreign generator's healthy units showed (README,
-    "The sampling's share of a size").  None for a fit without its linearisation (an effect fitted on top
-    of another, :func:`extend`)."""
-    if f.response.size == 0:
+    every row's error taking the sign that moves the size most (a worst case, as the tolerances' in
+    :mod:`.play`).  It is reported, not judged by the verdict (README, "The sampling's share of a size").
+    None for a fit without its linearisation (an effect fitted on top of another, :func:`extend`) and for
+    a combination of effects, whose joint size is no quantity of its own."""
+    if f.response.size == 0 or "+" in effect.name:
         return None
     return float(np.sum(np.abs(size_gradient(effect, f.theta) @ f.response) * f.bound))
 
 
 def sampling_caution(f: EffectFit) -> bool:
-    """The size's worst-case change by what the sampling does not resolve (:func:`sampling_bound`) exceeds
-    its margin over the floor, size - 1.645 std - floor: at the worst it could be under its floor."""
-    return f.sampling is not None and f.sampling > f.size - MATERIAL_Z * f.size_std - f.floor
+    """A material effect whose size's worst-case change by what the sampling does not resolve
+    (:func:`sampling_bound`) exceeds its margin over the floor, size - 1.645 std - floor: at the worst it
+    could be under its floor.  An effect not material alone (a part of a pair) has no margin to lose."""
+    margin = f.size - MATERIAL_Z * f.size_std - f.floor
+    return f.sampling is not None and margin > 0.0 and f.sampling > margin
 
 
 def _size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:

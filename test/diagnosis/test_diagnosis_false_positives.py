@@ -11,7 +11,7 @@ that are still named, kept as strict expected failures.
 
 import pytest
 
-from ebm_wear_monitor.diagnosis.pipeline import analyse
+from ebm_wear_monitor.diagnosis.pipeline import analyse, cautioned
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.errors import InputError
@@ -67,6 +67,7 @@ def test_independent_integration_effect_is_found(unit):
     rec = simulate_reference(unit, DEMANDS, cycles=12, effects={"load_friction": 0.3}, seed=4)
     _, ranking = analyse(rec, unit)
     assert ranking.verdict == "effect" and ranking.top.effect.name == "load_friction"
+    assert cautioned(ranking) == []  # a true effect at 1 kHz: no sampling caution (README)
     # the reference's friction is regularised (tanh) near zero speed, where the twin's is switched:
     # within three standard errors or 15 % of the injected change
     dG, se = ranking.top.theta[0], ranking.top.stderr[0]
@@ -103,6 +104,8 @@ def test_the_blind_foreign_healthy_unit_at_250_hz_reads_none(tmp_path):
     that speed by the bias the twin predicts fixed this unit and named three others (README, "Speed
     windows"), so it was not kept."""
     res = foreign_diagnosis("full_r", "none_r018", tmp_path)
+    if res.verdict != "none" and not res.sampling_caution:  # not an AssertionError: a failure of its own
+        pytest.fail("the known false positive lost its sampling caution (README, \"The sampling's share\")")
     expect_none(res.verdict, res.effect)
 
 
@@ -114,4 +117,6 @@ def test_the_blind_third_world_healthy_unit_of_seed_9_reads_none(tmp_path):
     (row,) = third_diagnosis(tmp_path, 9, "healthy_11").case_results
     if row.kind != "none":
         pytest.fail(f"healthy_11 is not a no-effect case: {row.kind}")
+    if row.verdict != "none" and not row.sampling_caution:
+        pytest.fail("the known false positive lost its sampling caution (README, \"The sampling's share\")")
     expect_none(row.verdict, row.diagnosed)

@@ -16,9 +16,13 @@ from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import (
     DRIFT_ALPHA,
+    Fit,
+    Model,
     Scorer,
     fit,
     rank,
+    sampling_bound,
+    size_gradient,
     split_by_cycle,
     trend_p,
 )
@@ -623,3 +627,51 @@ def test_an_ecu_parking_anywhere_in_a_band_behind_its_target_is_no_clearance_gro
     r = rank(sc, catalog(model))
     assert r.verdict == "effect" and r.effect.effect.name == "clearance_growth"
     assert r.effect.size == pytest.approx(2.5e-5 - np.mean(seen), abs=4.0 * r.effect.size_std + 0.3e-6)
+
+
+@pytest.mark.parametrize("name", ["viscous_friction", "efficiency_variation", "stribeck"])
+def test_the_sampling_bound_is_the_largest_size_change_over_every_sign_of_the_unresolved_errors(name):
+    """:func:`.ranking.sampling_bound` against brute force: a fit linearised at its solution (Jacobian J of
+    9 rows, the effect's parameters and two others) moves its parameters by J^+ dz for a change dz of the
+    residual; every row's error up to its bound e_b with either sign (512 patterns), the size's change
+    taken by finite differences of the effect's own size function, not its gradient."""
+    effect = build_catalog(NOM)[name]
+    theta = np.array(TRUTH[name][1], float)
+    rng = np.random.default_rng(7)
+    J = rng.normal(size=(9, effect.k + 2)) / np.concatenate([np.abs(theta), [1.0, 1.0]])
+    bound = rng.uniform(0.0, 1.0, 9)
+    f = Fit(theta, np.zeros(effect.k), Model(), {}, response=np.linalg.pinv(J)[:effect.k], bound=bound)
+    eps = 1e-7
+    worst = 0.0
+    for signs in np.array(np.meshgrid(*[[-1.0, 1.0]] * 9)).reshape(9, -1).T:
+        d_theta = np.linalg.lstsq(J, signs * bound, rcond=None)[0][:effect.k]
+        change = (effect.size(theta + eps * d_theta) - effect.size(theta - eps * d_theta)) / (2 * eps)
+        worst = max(worst, abs(change))
+    assert sampling_bound(effect, f) == pytest.approx(worst, rel=1e-5)
+    assert sampling_bound(effect, dataclasses.replace(f, response=np.zeros((0, 0)))) is None
+
+
+@pytest.mark.parametrize("name", ["viscous_friction", "efficiency_variation"])
+def test_a_real_refit_with_the_worst_signs_moves_the_size_by_the_sampling_bound(name, monkeypatch):
+    """End to end on a 250 Hz closed-form recording: every calibration block's torque residual moved by its
+    unresolved torque as the residuals show it (c_E e_b) with the sign that raises the size most, the
+    effect refitted by the nonlinear least squares (nuisances and tolerances with it, from the solution):
+    the size rises by the bound :func:`.ranking.sampling_bound` computes from the first fit alone."""
+    sc, model = scorer(Augment(dB=1.5e-3), seed=1, rate=250.0)
+    effect = catalog(model)[name]
+    f = fit(sc, effect, sc.base)
+    rows = sc.valid(sc.split.calibration, "torque")
+    n = int(rows.sum())
+    signs = np.zeros(model.blocks.size)
+    signs[rows] = np.sign(size_gradient(effect, f.theta) @ f.response)[:n]
+    shown = sc.transient_scale * np.hypot(model.unresolved_torque, model.ambiguous_torque)
+    bound = sampling_bound(effect, f)
+    assert bound is not None and bound > 0.01 * effect.size(f.theta)
+    residual = model.torque_residual
+    again = dataclasses.replace(effect, starts=(tuple(f.theta),))
+    sizes = []
+    for delta in (np.zeros(model.blocks.size), signs * shown):
+        moved = lambda aug, *a, _d=delta: residual(aug, *a) + (0.0 if a else _d)  # noqa: E731
+        monkeypatch.setattr(model, "torque_residual", moved)
+        sizes.append(effect.size(fit(sc, again, f.model).theta))
+    assert sizes[1] - sizes[0] == pytest.approx(bound, rel=0.05)
