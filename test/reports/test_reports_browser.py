@@ -114,6 +114,7 @@ def test_diagnose_report(repo, tmp_path, open_page):
     # the verdict in words, the effect table with sizes against floors, the estimated conventions
     assert page.locator(".card .status").first.inner_text().strip()
     assert page.locator("text=floor").count() >= 1 and page.locator("text=force-sensor lag").count() == 1
+    assert page.locator("th", has_text="sampling, worst case").count() == 1  # each size's sampling bound
     css = page.evaluate("getComputedStyle(document.querySelector('header.page')).backgroundColor")
     assert css == "rgb(29, 39, 51)"  # the shared stylesheet (--ink), as on the replay and fleet pages
     page.screenshot(path=str(tmp_path / "diagnose.png"), full_page=True)
