@@ -262,23 +262,26 @@ def summary(ranking: Ranking) -> str:
             f"{_nearest(ranking)}")
 
 
-def cautioned(ranking: Ranking) -> list[str]:
-    """The named effects whose size, fitted alone, the transients the sampling does not resolve could take
-    under its floor at the worst (:func:`.ranking.sampling_caution`), in the order named."""
+def _cautioned_fits(ranking: Ranking) -> list[EffectFit]:
+    """The named effects, each as fitted alone, whose size the transients the sampling does not resolve
+    could take under its floor at the worst (:func:`.ranking.sampling_caution`), in the order named."""
     if ranking.verdict != "effect":
         return []
     alone = {f.effect.name: f for f in ranking.fits}
-    return [f.effect.name for f in ranking.selected
+    return [alone[f.effect.name] for f in ranking.selected
             if f.effect.name in alone and sampling_caution(alone[f.effect.name])]
 
 
+def cautioned(ranking: Ranking) -> list[str]:
+    """The names of :func:`_cautioned_fits` (JSON ``sampling_caution``)."""
+    return [f.effect.name for f in _cautioned_fits(ranking)]
+
+
 def _sampling_words(ranking: Ranking) -> str:
-    """The caution of :func:`cautioned` in plain words, with each effect's worst-case change (empty when
-    there is none)."""
-    alone = {f.effect.name: f for f in ranking.fits}
-    names = cautioned(ranking)
-    words = [f"the {name.replace('_', ' ')} by up to {_size_words(alone[name], alone[name].sampling or 0.0)}"
-             for name in names]
+    """The caution of :func:`_cautioned_fits` in plain words, with each effect's worst-case change (empty
+    when there is none)."""
+    words = [f"the {f.effect.name.replace('_', ' ')} by up to {size_words(f, f.sampling or 0.0)}"
+             for f in _cautioned_fits(ranking)]
     if not words:
         return ""
     it, its = ("them", "their") if len(words) > 1 else ("it", "its")
@@ -287,16 +290,18 @@ def _sampling_words(ranking: Ranking) -> str:
             "detectability floor (README, \"The sampling's share of a size\").")
 
 
-def _size_words(f: EffectFit, size: float) -> str:
-    """A size of effect ``f`` in the unit people read (µm, or % of the quantity it is a fraction of)."""
+def size_words(f: EffectFit, size: float, *, meaning: bool = True) -> str:
+    """A size of effect ``f`` in the unit people read: µm of clearance, else % of the quantity it is a
+    fraction of (followed by what that quantity is, unless ``meaning`` is False)."""
     if f.effect.size_unit == "m":
         return f"{1e6 * size:.1f} µm"
-    return f"{100.0 * size:.{0 if size >= 0.01 else 1}f} % ({f.effect.size_meaning})"
+    percent = f"{100.0 * size:.{0 if size >= 0.01 else 1}f} %"
+    return f"{percent} ({f.effect.size_meaning})" if meaning else percent
 
 
 def _floor_words(f: EffectFit) -> str:
     """An effect's detectability floor (:mod:`.tolerance`) in the unit people read."""
-    return _size_words(f, f.floor)
+    return size_words(f, f.floor)
 
 
 def _nearest(ranking: Ranking) -> str:

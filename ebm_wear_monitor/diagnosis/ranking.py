@@ -730,9 +730,12 @@ def fit(sc: Scorer, effect: Effect, start: Model, extra_starts: tuple[dict[str, 
     cov = cluster_covariance(J, z, sc.row_cycles(mask, seen))
     p = best.x * scale
     se = np.sqrt(np.clip(np.diag(cov), 0.0, None)) * scale
-    return Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
-               z, J[:, :k] / scale[:k], _response(J, best.active_mask, k) * scale[:k, None],
-               sc.unresolved(mask, seen))
+    fitted = Fit(p[:k], se[:k], to_model(best.x), dict(zip(names, map(float, se[k:k + m]), strict=True)),
+                 z, J[:, :k] / scale[:k])
+    if k == 0:  # nuisances and tolerances only (W and its relatives): no size to bound
+        return fitted
+    return dataclasses.replace(fitted, response=_response(J, best.active_mask, k) * scale[:k, None],
+                               bound=sc.unresolved(mask, seen))
 
 
 def _response(J: np.ndarray, active: np.ndarray, k: int) -> np.ndarray:
@@ -740,11 +743,9 @@ def _response(J: np.ndarray, active: np.ndarray, k: int) -> np.ndarray:
     parameters, scaled): minus the pseudo-inverse's rows of the parameters off their bounds, zero for those
     held on one (``active`` non-zero, scipy's ``active_mask``), which a small change of z leaves there."""
     free = np.flatnonzero(active == 0)
+    own = free < k
     out = np.zeros((k, J.shape[0]))
-    inverse = np.linalg.pinv(J[:, free])
-    for row, col in enumerate(free):
-        if col < k:
-            out[col] = -inverse[row]
+    out[free[own]] = -np.linalg.pinv(J[:, free])[own]
     return out
 
 

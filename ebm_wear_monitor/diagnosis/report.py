@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from ebm_wear_monitor.diagnosis.pipeline import describe
+from ebm_wear_monitor.diagnosis.pipeline import describe, size_words
 from ebm_wear_monitor.diagnosis.ranking import EffectFit, Model, Ranking, Scorer
 from ebm_wear_monitor.domain.phases import PHASES
 from ebm_wear_monitor.outputs import jsonable, publish_directory
@@ -170,19 +170,14 @@ def effect_note(f: EffectFit) -> str:
     return "; ".join(notes)
 
 
-def _percent_or_um(f: EffectFit, size: float) -> str:
-    """A size of ``f``'s effect as people read it: µm of clearance, else % of its quantity."""
-    return f"{100 * size:.0f} %" if f.effect.size_unit == "-" else f"{size * 1e6:.1f} µm"
-
-
 def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
     """What the template shows of one unit (``res``: its diagnosis, a
     :class:`~ebm_wear_monitor.schema.diagnose.DiagnosisResult`)."""
     res = u.diagnosis
     effects = [{"effect": f.effect.name.replace("_", " "), "size": describe(f),
-                "floor": f"{100 * f.floor:.0f} %" if f.effect.size_unit == "-" else f"{f.floor * 1e6:.0f} µm",
+                "floor": size_words(f, f.floor, meaning=False),
                 "material": "yes" if f.material else "no",
-                "sampling": "—" if f.sampling is None else f"± {_percent_or_um(f, f.sampling)}",
+                "sampling": "—" if f.sampling is None else f"± {size_words(f, f.sampling, meaning=False)}",
                 "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %", "note": effect_note(f)}
                for f in ranking.fits]
     nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
