@@ -340,7 +340,8 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_u": (75000, 76000, "none_u"),
          "full_v": (78000, 79000, "none_v"),
          "full_w": (81000, 82000, "none_w"),
-         "full_x": (84000, 85000, "none_x")}  # "none_q" is the quick set's prefix, hence "none_q2"
+         "full_x": (84000, 85000, "none_x"),
+         "full_y": (87000, 88000, "none_y")}  # "none_q" is the quick set's prefix, hence "none_q2"
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
@@ -349,7 +350,7 @@ OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outs
                  "outside_n": 59000, "outside_o": 62000, "outside_p": 65000,
                  "outside_q": 68000, "outside_r": 71000, "outside_s": 74000,
                  "outside_t": 77000, "outside_u": 80000, "outside_v": 83000,
-                 "outside_w": 86000}
+                 "outside_w": 86000, "outside_x": 89000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -416,6 +417,9 @@ def case_set(name: str) -> list[Case]:
     speed treatments for materiality; README), then with the kept diagnosis (5cc2c4d's verdict code).
     ``full_x`` (seeds 84000 and 85000) and ``outside_w`` (from 86000): registered on top of 420257f before
     any run, with third-world seeds 18 and 19, and first run blind with the kept diagnosis (5cc2c4d's
+    verdict code).
+    ``full_y`` (seeds 87000 and 88000) and ``outside_x`` (from 89000): registered on top of 5a21b62 before
+    any run, with third-world seeds 20 and 21, and first run blind with the kept diagnosis (5cc2c4d's
     verdict code).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
