@@ -134,9 +134,12 @@ def _dotted_resolves(dotted: str) -> bool:
 
 
 def _relative(path: str, target: str) -> str:
-    """``.x.f`` written in ``path`` -> the absolute dotted name (relative to the module's package)."""
+    """``.x.f`` written in ``path`` -> the absolute dotted name, relative to the module's package as in a
+    relative import: each further leading dot goes one package up (``..x.f``)."""
+    name = target.lstrip(".")
+    up = len(target) - len(name) - 1
     package = Path(path).with_suffix("").parts[:-1]
-    return ".".join(package) + target
+    return ".".join((*package[:len(package) - up], name))
 
 
 def test_every_file_and_module_reference_resolves() -> None:

@@ -21,7 +21,7 @@ are only four smooth shapes of the position in the stroke, and k is not identifi
 validation of this test on that generator's ripple is not blind to its form).
 
 **Test.**  On the moving blocks (but those whose friction eq. 9 leaves undetermined, stick and slip
-not told apart: :func:`.ranking.screw_periodic`) the torque residual r of the explaining model (the
+not told apart: :func:`.ranking.verdict.screw_periodic`) the torque residual r of the explaining model (the
 selected effects, or the twin within its tolerance when none is selected) is normalised by its block
 noise, z = r / sigma;
 regressors are divided by sigma too, so coefficients are in N m. The shape terms alone, then the shape
@@ -109,7 +109,7 @@ def periodic_structure(angle: np.ndarray, start: np.ndarray, stop: np.ndarray, z
     ``angle``: screw angle per sample [rad]; ``start``/``stop``: sample range of each block;
     ``z``: normalised torque residual per block; ``sigma``: its block noise [N m]; ``shapes``: the
     catalog-shaped terms per block (columns in N m per unit, e.g. the force and the direction: see
-    :func:`.ranking.screw_periodic`), fitted with every harmonic so that the harmonic counts only
+    :func:`.ranking.verdict.screw_periodic`), fitted with every harmonic so that the harmonic counts only
     beyond them; ``calibration``/``heldout``: masks of the moving blocks of each side; ``drive``: block
     mean of the motor torque [N m]. None when a side has too few blocks for the columns.
     """

@@ -357,37 +357,39 @@ def test_effects_in_different_channels_are_both_named():
 def test_a_change_that_makes_a_channel_materially_wrong_is_not_supported():
     """Test (e): the error a change adds in a channel is the quadrature difference of the held-out
     shares, judged against that channel's materiality share (2 % of the torque, 1 % of the force)."""
-    from ebm_wear_monitor.diagnosis.ranking import _worsens
+    from ebm_wear_monitor.diagnosis.ranking import worsens
 
     # a force-sensor gain that closed the force gap of a foreign stiffness + Stribeck recording by putting
     # 14 % of the motor torque into the torque residual (the quick foreign set, before test (e))
-    assert _worsens({"torque": 0.0117, "force": 0.0202}, {"torque": 0.1405, "force": 0.0098})
+    assert worsens({"torque": 0.0117, "force": 0.0202}, {"torque": 0.1405, "force": 0.0098})
     # 3.0 % -> 3.5 %: adds sqrt(3.5^2 - 3.0^2) = 1.8 % of the torque, below 2 %
-    assert not _worsens({"torque": 0.030, "force": 0.02}, {"torque": 0.035, "force": 0.0})
+    assert not worsens({"torque": 0.030, "force": 0.02}, {"torque": 0.035, "force": 0.0})
     # 0.5 % -> 1.2 % of the force: adds 1.09 %, above 1 %
-    assert _worsens({"torque": 0.0, "force": 0.005}, {"torque": 0.0, "force": 0.012})
+    assert worsens({"torque": 0.0, "force": 0.005}, {"torque": 0.0, "force": 0.012})
 
 
 def test_test_e_guards_the_first_effect_and_every_addition(monkeypatch):
     """Test (e) is asked for the first effect (against the twin within its tolerance) and for the second
     (against the first); when it fails, nothing is selected."""
-    from ebm_wear_monitor.diagnosis import ranking
+    from ebm_wear_monitor.diagnosis.ranking import criteria, selection
 
     sc, model = scorer(Augment(clearance=4e-5, dG=1.2e-5), seed=6, cycles=12)
     asked = []
-    real = ranking._worsens
+    real = criteria.worsens
 
     def spy(before, after):
         asked.append(dict(before))
         return real(before, after)
 
-    monkeypatch.setattr(ranking, "_worsens", spy)
+    for module in (criteria, selection):  # the first effect's test and every addition's
+        monkeypatch.setattr(module, "worsens", spy)
     r = rank(sc, catalog(model))
     assert len(r.selected) == 2
     assert r.unexplained_share in asked  # the first effect, against W
     first = next(f for f in r.fits if f.effect.name == r.selected[0].effect.name)
     assert first.share in asked  # the addition, against the first
-    monkeypatch.setattr(ranking, "_worsens", lambda before, after: True)
+    for module in (criteria, selection):
+        monkeypatch.setattr(module, "worsens", lambda before, after: True)
     assert rank(sc, catalog(model)).selected == []
 
 
@@ -399,7 +401,7 @@ def test_the_first_effect_is_chosen_again_given_the_second(aug, seed, monkeypatc
     friction) or a preload change takes part of both and is selected first; greedy selection keeps it
     (efficiency + Stribeck, preload + load friction + Stribeck), the floating step chooses the first
     again given the second."""
-    from ebm_wear_monitor.diagnosis import ranking
+    from ebm_wear_monitor.diagnosis.ranking import selection
 
     sc, model = scorer(aug, seed=seed, cycles=12)
     r = rank(sc, catalog(model))
@@ -409,7 +411,7 @@ def test_the_first_effect_is_chosen_again_given_the_second(aug, seed, monkeypatc
     true = aug.dG / NOM.friction.load_coefficient
     assert abs(load.size - true) <= max(4.0 * load.size_std, 0.1 * true), (load.size, load.size_std, true)
     # the same data without the floating step: the greedy first choice stays
-    monkeypatch.setattr(ranking, "_rechoose_first",
+    monkeypatch.setattr(selection, "_rechoose_first",
                         lambda sc, fits, current, selected, **kw: (current, selected))
     greedy = rank(sc, catalog(model))
     assert {f.effect.name for f in greedy.selected} != {"load_friction", "stribeck"}
@@ -419,7 +421,7 @@ def test_a_force_channel_effect_fits_the_nuisances_that_time_the_load_torque_on_
     """The force reading's skew and lag time the load torque too (004 eq. 1): a force-channel effect refits
     them on every row they move, torque rows included, so its fit cannot buy a force fit with an unseen
     torque error (test (e) against the twin within its tolerance holds)."""
-    from ebm_wear_monitor.diagnosis.ranking import _worsens, evaluate, nominal_sse
+    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse, worsens
     from ebm_wear_monitor.diagnosis.residuals import CHANNELS
 
     sc, model = scorer(Augment(clearance=3e-5), seed=3)
@@ -429,7 +431,7 @@ def test_a_force_channel_effect_fits_the_nuisances_that_time_the_load_torque_on_
     assert f.z.size == sc.rows(sc.split.calibration, CHANNELS).size  # torque and force rows
     assert f.z.size > fit(sc, clearance, sc.base, search=True).z.size  # a search: its own rows only
     ef = evaluate(sc, clearance, nominal_sse(sc), sc.gap(sc.base))
-    assert not _worsens(sc.unexplained_share(sc.base), ef.share)
+    assert not worsens(sc.unexplained_share(sc.base), ef.share)
     assert ef.share["torque"] <= sc.unexplained_share(sc.base)["torque"] + 1e-3
 
 
@@ -477,19 +479,19 @@ def test_rank_takes_the_best_pair_where_greedy_selection_leaves_the_material_err
     """The route in ``rank``: with the greedy selection made to find nothing, a clearance growth and a
     force-sensor gain are still named, both, by the best pair of two; where the twin within its tolerance
     leaves no material error (a healthy recording) the pair search is not made and the verdict is none."""
-    from ebm_wear_monitor.diagnosis import ranking
+    from ebm_wear_monitor.diagnosis.ranking import verdict
 
     def greedy_finds_nothing(sc, fits, level, s_before, gap_before, *, w_share):
         return [], None, list(fits)
 
-    monkeypatch.setattr(ranking, "_forward_select", greedy_finds_nothing)
+    monkeypatch.setattr(verdict, "forward_select", greedy_finds_nothing)
     sc, model = scorer(Augment(clearance=3e-5, force_gain=0.06), seed=5, cycles=12)
     r = rank(sc, catalog(model))
     assert r.verdict == "effect"
     assert {f.effect.name for f in r.selected} == {"clearance_growth", "force_sensor_bias"}
     assert r.joint is not None and r.joint.effect.name.count("+") == 1
     searched = []
-    monkeypatch.setattr(ranking, "best_pair", lambda *a, **kw: searched.append(1))
+    monkeypatch.setattr(verdict, "best_pair", lambda *a, **kw: searched.append(1))
     healthy, hmodel = scorer(None, seed=5, cycles=12)
     assert rank(healthy, catalog(hmodel)).verdict == "none" and not searched
 
@@ -499,9 +501,9 @@ def test_an_effect_that_does_not_shrink_the_held_out_gap_is_not_named(monkeypatc
     made no smaller than the nominal twin's (shrink 0), names nothing. The verdict then follows the
     rules without a selection: here a candidate closes the material error by half, so not
     ``unexplained`` for want of an effect."""
-    from ebm_wear_monitor.diagnosis import ranking
+    from ebm_wear_monitor.diagnosis.ranking import verdict
 
-    real = ranking._forward_select
+    real = verdict.forward_select
 
     def gap_unchanged(*args, **kw):
         selected, joint, candidates = real(*args, **kw)
@@ -511,7 +513,7 @@ def test_an_effect_that_does_not_shrink_the_held_out_gap_is_not_named(monkeypatc
 
     sc, model = scorer(TRUTH["load_friction"][0], seed=3, cycles=12)
     assert rank(sc, catalog(model)).verdict == "effect"
-    monkeypatch.setattr(ranking, "_forward_select", gap_unchanged)
+    monkeypatch.setattr(verdict, "forward_select", gap_unchanged)
     r = rank(sc, catalog(model))
     assert r.selected == [] and r.joint is None
     assert not any(f.drifting for f in r.fits) and r.verdict == "none"

@@ -389,7 +389,7 @@ def case_set(name: str) -> list[Case]:
     limits of the catalog's fits (``diagnosis/catalog.py``), written after the preload reliefs read as a
     negative viscous drag on the earlier draws. ``full_j`` (seeds 42000 and 43000) and ``outside_i``
     (seeds from 44000): first run blind with a change tried and not kept (weighted levels of the first
-    effect's test, ``diagnosis/ranking.py``'s docstring), and with the code of 2228857: the verdicts
+    effect's test, the ``diagnosis/ranking`` package docstring), and with the code of 2228857: the verdicts
     are the same case by case.  ``full_k`` (seeds 45000 and 46000) and ``outside_j`` (seeds from 47000):
     first run blind with the materiality noise floor, the unresolved creep of a quantised encoder and
     the phase noise estimate's minimum of differences, written from ``full_j``'s false positive.
