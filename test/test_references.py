@@ -172,3 +172,14 @@ def test_the_checker_catches_what_it_should() -> None:
     assert not _dotted_resolves("ebm_wear_monitor.twin.closedforms")
     assert not _dotted_resolves("ebm_wear_monitor.monitor.kalman.Bank.no_such_method")
     assert not _dotted_resolves("ebm_wear_monitor.monitor.kalman.NoSuchName")
+
+
+def test_relative_references_go_up_one_package_per_further_dot() -> None:
+    """``.x`` is relative to the module's package, ``..x`` to its parent (as a relative import)."""
+    here = f"{PACKAGE}/diagnosis/ranking/verdict.py"
+    assert _relative(here, ".scorer.fit") == f"{PACKAGE}.diagnosis.ranking.scorer.fit"
+    assert _relative(here, "..phases") == f"{PACKAGE}.diagnosis.phases"
+    package_init = f"{PACKAGE}/diagnosis/ranking/__init__.py"
+    assert _relative(package_init, "..tolerance") == f"{PACKAGE}.diagnosis.tolerance"
+    assert _dotted_resolves(_relative(here, "..tolerance.MATERIAL_SHARE"))
+    assert not _dotted_resolves(_relative(here, ".tolerance.MATERIAL_SHARE"))

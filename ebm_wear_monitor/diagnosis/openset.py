@@ -35,7 +35,7 @@ when the RMS of its contribution over the moving blocks exceeds, with 95 % confi
 ``MATERIAL_SHARE['torque']`` (2 %, the K_T x current-gain tolerance) of the RMS motor torque over the
 moving blocks (:mod:`.tolerance`): an RMS against an RMS.
 
-**Consequence for the verdict** (:func:`.ranking.open_set_verdict`).  With S the held-out sum of z^2
+**Consequence for the verdict** (:func:`.ranking.verdict.open_set_verdict`).  With S the held-out sum of z^2
 of the twin within its tolerance (W, all rows), of the explaining model (E), and, on the moving
 torque rows, of E's residual after the shape terms before and after the harmonic (EP): when the
 significant harmonic removes more than the effects removed from W's error, S_W - S_E, the effects

@@ -26,7 +26,7 @@ calibration blocks, the model's other deviations held where its fit put them,
 with r = z + c d the residual after it, s^2 = max(1, r^T r / (n - 1)) and k the brake cycles: the
 larger of the noise-floored least-squares error and the cluster-robust one with cycles as clusters
 (neighbouring blocks of one application share model error; :func:`.heldout.cluster_covariance`, the
-sandwich :func:`.ranking.fit` uses). The total deviation of K_T x current gain is g = (t + c) x 2 %,
+sandwich :func:`.ranking.scorer.fit` uses). The total deviation of K_T x current gain is g = (t + c) x 2 %,
 t the model's own in units of the bound, with standard error se(c) x 2 %. Only the held-out test of
 c is out of sample (:func:`.heldout.improvement_p_floored`); g and its error are calibration fits.
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ebm_wear_monitor.diagnosis.openset import Periodic, block_basis, periodic_structure
-from ebm_wear_monitor.diagnosis.ranking import open_set_verdict
+from ebm_wear_monitor.diagnosis.ranking.verdict import open_set_verdict
 
 from foreign_case import foreign_diagnosis
 
@@ -25,7 +25,8 @@ def _blocks(n_blocks: int = 600, per_block: int = 20, seed: int = 0, step: float
 
 
 def _shapes(n: int, rng: np.random.Generator) -> np.ndarray:
-    """Shape columns like ranking.screw_periodic's: direction indicators, force and speed per direction."""
+    """Shape columns like ranking.verdict.screw_periodic's:
+    direction indicators, force and speed per direction."""
     forward = (np.arange(n) % 3 != 2).astype(float)
     force = rng.uniform(0.0, 2e4, n)
     speed = rng.uniform(1.0, 30.0, n)

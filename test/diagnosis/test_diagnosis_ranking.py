@@ -14,18 +14,10 @@ from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
 from ebm_wear_monitor.diagnosis.heldout import improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
-from ebm_wear_monitor.diagnosis.ranking import (
-    DRIFT_ALPHA,
-    Fit,
-    Model,
-    Scorer,
-    fit,
-    rank,
-    sampling_bound,
-    size_gradient,
-    split_by_cycle,
-    trend_p,
-)
+from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, rank
+from ebm_wear_monitor.diagnosis.ranking.criteria import DRIFT_ALPHA, trend_p
+from ebm_wear_monitor.diagnosis.ranking.effect_fit import sampling_bound, size_gradient
+from ebm_wear_monitor.diagnosis.ranking.scorer import Fit, fit, split_by_cycle
 from ebm_wear_monitor.diagnosis.report import effect_note
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.domain.phases import Phase
@@ -312,7 +304,8 @@ def test_improvement_p_is_conservative_without_effect_and_small_with_one():
 def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():
     """A force-channel effect (stiffness) and a torque-channel one (viscous): the second fitted on top of
     the first returns the first's parameters unchanged and its own within its resolution."""
-    from ebm_wear_monitor.diagnosis.ranking import evaluate, extend, nominal_sse
+    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse
+    from ebm_wear_monitor.diagnosis.ranking.effect_fit import extend
 
     viscous = 3e-3  # [N m s/rad]
     sc, model = scorer(Augment(stiffness_quad=2e10, dB=viscous), seed=4, cycles=12)
@@ -334,12 +327,12 @@ def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():
 
 @pytest.mark.xfail(strict=False, reason=(
     "machine-dependent since 687984d: a phase's lag-2 noise estimate needs 12 differences "
-    "(ranking.QUIET_DIFFS), a count at its edge for this closed-form pair; where the torque noise scale "
-    "comes out larger the viscous addition misses its test (the fresh-clone CI machine of c25210c: "
-    "xfailed), elsewhere it passes (the machine of be722b5, at c25210c and after: p = 0.0031 against "
-    "0.05 / 7)"))
+    "(ranking.blocknoise.QUIET_DIFFS), a count at its edge for this closed-form pair; where the torque "
+    "noise scale comes out larger the viscous addition misses its test (the fresh-clone CI machine of "
+    "c25210c: xfailed), elsewhere it passes (the machine of be722b5, at c25210c and after: p = 0.0031 "
+    "against 0.05 / 7)"))
 def test_effects_in_different_channels_are_both_named():
-    from ebm_wear_monitor.diagnosis.ranking import without_own
+    from ebm_wear_monitor.diagnosis.ranking.effect_fit import without_own
 
     sc, model = scorer(Augment(stiffness_quad=2e10, dB=1.5e-3), seed=8, cycles=12)
     r = rank(sc, catalog(model))
@@ -357,7 +350,7 @@ def test_effects_in_different_channels_are_both_named():
 def test_a_change_that_makes_a_channel_materially_wrong_is_not_supported():
     """Test (e): the error a change adds in a channel is the quadrature difference of the held-out
     shares, judged against that channel's materiality share (2 % of the torque, 1 % of the force)."""
-    from ebm_wear_monitor.diagnosis.ranking import worsens
+    from ebm_wear_monitor.diagnosis.ranking.criteria import worsens
 
     # a force-sensor gain that closed the force gap of a foreign stiffness + Stribeck recording by putting
     # 14 % of the motor torque into the torque residual (the quick foreign set, before test (e))
@@ -421,7 +414,8 @@ def test_a_force_channel_effect_fits_the_nuisances_that_time_the_load_torque_on_
     """The force reading's skew and lag time the load torque too (004 eq. 1): a force-channel effect refits
     them on every row they move, torque rows included, so its fit cannot buy a force fit with an unseen
     torque error (test (e) against the twin within its tolerance holds)."""
-    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse, worsens
+    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse
+    from ebm_wear_monitor.diagnosis.ranking.criteria import worsens
     from ebm_wear_monitor.diagnosis.residuals import CHANNELS
 
     sc, model = scorer(Augment(clearance=3e-5), seed=3)
@@ -438,7 +432,8 @@ def test_a_force_channel_effect_fits_the_nuisances_that_time_the_load_torque_on_
 def test_an_addition_is_tested_against_the_model_with_its_own_budget_entries_held_at_zero():
     """The second effect's test is nested like the first's: against the selected model refitted with the
     added effect's own budget entries at zero, not against a model whose tolerances already mimic it."""
-    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse, without_own
+    from ebm_wear_monitor.diagnosis.ranking import evaluate, nominal_sse
+    from ebm_wear_monitor.diagnosis.ranking.effect_fit import without_own
 
     sc, model = scorer(Augment(stiffness_quad=2e10, dB=1.5e-3), seed=8, cycles=12)
     cat = catalog(model)
@@ -455,7 +450,8 @@ def test_the_best_pair_fits_two_effects_together(seed):
     """Best subset of size two (``best_pair``): a clearance growth and a force-sensor gain, fitted
     together from the twin within its tolerance, return both their parameters; on a healthy recording
     no pair passes."""
-    from ebm_wear_monitor.diagnosis.ranking import best_pair, nominal_sse, ranked_fits
+    from ebm_wear_monitor.diagnosis.ranking import nominal_sse, ranked_fits
+    from ebm_wear_monitor.diagnosis.ranking.selection import best_pair
 
     sc, model = scorer(Augment(clearance=3e-5, force_gain=0.06), seed=seed, cycles=12)
     fits = ranked_fits(sc, catalog(model))

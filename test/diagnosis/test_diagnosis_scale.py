@@ -13,15 +13,8 @@ from ebm_wear_monitor.diagnosis import scale
 from ebm_wear_monitor.diagnosis.catalog import build_catalog
 from ebm_wear_monitor.diagnosis.openset import Periodic
 from ebm_wear_monitor.diagnosis.pipeline import diagnose_with_state, residual_model, summary
-from ebm_wear_monitor.diagnosis.ranking import (
-    ALPHA,
-    OpenSet,
-    Scorer,
-    evaluate,
-    motor_scale,
-    nominal_sse,
-    rank,
-)
+from ebm_wear_monitor.diagnosis.ranking import ALPHA, OpenSet, Scorer, evaluate, nominal_sse, rank
+from ebm_wear_monitor.diagnosis.ranking.verdict import motor_scale
 from ebm_wear_monitor.diagnosis.report import write_report
 from ebm_wear_monitor.diagnosis.residuals import Augment
 from ebm_wear_monitor.params import load_unit

@@ -42,7 +42,7 @@ def test_quick_selftest_foreign_world(result):
     assert f.median_shrink >= 0.7
     assert f.catalog_unexplained_rate <= 0.1
     # 3 of the 4 outside effects: the torque-constant loss; the rising friction, whose load friction
-    # trends with time beyond the operating mix (the drift test of ranking.drift_test; read as load
+    # trends with time beyond the operating mix (the drift test of ranking.criteria.drift_test; read as load
     # friction before it); and the backlash (angle on the screw side), whose motor drives 2.2 N m beyond
     # the breakaway torque while the recorded screw stays at rest (diagnosis/stick.py; read none before,
     # the twin's tolerance budget absorbing what the moving blocks show). The ripple reads none

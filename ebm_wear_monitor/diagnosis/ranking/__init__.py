@@ -11,25 +11,25 @@ worse than none.  A split
 that also balances time (one of each pair of force neighbours held out, chosen so the sides' summed
 times differ by at most one pair's gap) was tried and not kept: it named that pair but reshuffled
 marginal verdicts elsewhere (on two mixed draws, with a drift test asked without (a) and the
-open-set rule of :func:`open_set_verdict`'s note, all three reverted: exact pairs 13 -> 12 of 20, a
+open-set rule of :func:`.verdict.open_set_verdict`'s note, all three reverted: exact pairs 13 -> 12 of 20, a
 false positive where the tolerant twin's held-out torque error crossed its 2 % bound, catalog
 ``unexplained`` 2 -> 8 % on one).
 
 **Acquisition nuisances.**  The current timing and offset, the quadrature rule of
 the load, the force-sensor skew and lag (:mod:`..residuals`) are fitted first on the
-calibration cycles with the nominal twin (the "before" model, :attr:`Scorer.base`),
+calibration cycles with the nominal twin (the "before" model, :attr:`.scorer.Scorer.base`),
 each channel on its own rows, and refitted with every effect in the channels the
 effect acts in, each on every row it moves (the force reading's skew and lag time the load torque
-too, :func:`fit`); being in both models they are not counted in the penalty.  So an effect is
+too, :func:`.scorer.fit`); being in both models they are not counted in the penalty.  So an effect is
 declared only when it explains the data better than the nominal twin
 under its *best* admissible acquisition.
 
 **Normalised residuals.**  Each block gives a torque residual R_T and a force
 residual R_F (:mod:`..residuals`), divided by their block noise: z = R / sigma.
-sigma is propagated from the measured sensor noise (:func:`block_noise`) and, in the
+sigma is propagated from the measured sensor noise (:func:`.blocknoise.block_noise`) and, in the
 torque channel, from the transients the sampling does not resolve; each of the two is
 rescaled to the scatter the residual of the twin within its tolerance actually shows where
-it dominates (:meth:`Scorer.noise_scale`).
+it dominates (:meth:`.scorer.Scorer.noise_scale`).
 
 **Fit.**  An effect's parameters theta minimise sum z(theta)^2 over the calibration
 blocks of its channels (bounded Gauss-Newton, ``scipy.optimize.least_squares``),
@@ -53,7 +53,7 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 
 (a) statistical: the held-out improvement over W_E, the twin within its tolerance with the
     effect's own budget entries held at zero (the model the effect extends: a nested
-    comparison, :func:`base_without_own`), is significant.  The correction an effect
+    comparison, :func:`.effect_fit.base_without_own`), is significant.  The correction an effect
     makes, delta = z_before - z_after on the held-out rows, is fixed by the calibration
     cycles; with held-out noise z ~ N(0, 1) independent of it, S_before - S_after =
     2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when the effect is
@@ -73,18 +73,19 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     the same kind), so the level stays 0.05 / K.)
 (b) practical: its fitted size exceeds its detectability floor (:mod:`..tolerance`, from
     the model-tolerance budget) with 95 % confidence, size - 1.645 std > floor, and its fit is off
-    the physical limits of the catalog (:meth:`..catalog.Effect.at_limit`, :attr:`EffectFit.nameable`);
+    the physical limits of the catalog (:meth:`..catalog.Effect.at_limit`,
+    :attr:`.effect_fit.EffectFit.nameable`);
 (d) stationary: a friction effect is a property of the unit and must hold over the
     recording.  It drifts (fails) when, refitted on the early and on the late half of the brake
     cycles, its sizes differ by more than its floor and three standard deviations, and its size
     per cycle also trends with time once the operating mix is regressed out (at ``DRIFT_ALPHA``:
     the catalog's form fits a real effect only approximately, so its size depends on the
-    operating mix of a half too; :func:`drift_test`).
+    operating mix of a half too; :func:`.criteria.drift_test`).
     friction that drifts within minutes (warming grease) is outside the catalog.  Clearance
     (wear), sensor and stiffness effects may change within a recording;
 (c) explanatory: it (or the pair it is part of) closes at least half (``SHRINK_NEEDED``)
     of the material model error, in every channel where that error is material
-    (:meth:`Scorer.unexplained_share`), and the held-out gap of the model with the selected effects
+    (:meth:`.scorer.Scorer.unexplained_share`), and the held-out gap of the model with the selected effects
     is below the nominal twin's (``shrink`` > 0).  The second half matters where the twin within its
     tolerance leaves no material error: an effect that passes (a), (b), (d) and (e) there but leaves
     the held-out gap where the twin as given has it explains nothing (a healthy foreign unit at 200 Hz,
@@ -92,29 +93,31 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     held-out gap 1.52 -> 1.54 x noise; found on that blind draw, the rule written after it; no other
     verdict of the 14 foreign case sets or of the 216 in-world cases has shrink <= 0);
 (e) consistent: it does not make the model materially wrong in a channel, the error it adds there
-    (in quadrature, held out) staying below the channel's materiality share (:func:`worsens`): a
+    (in quadrature, held out) staying below the channel's materiality share (:func:`.criteria.worsens`): a
     force-sensor gain that closes the force gap by putting a tenth of the load torque into the torque
     residual explains nothing.
 
 **Forward selection** (up to three effects).  After the best single effect passing (a),
 (b), (d) and (e), every other effect is fitted *together* with it and *on top of* it (the first
-as fitted, the second with its own channels' nuisances and tolerances: :func:`extend`); the
+as fitted, the second with its own channels' nuisances and tolerances: :func:`.effect_fit.extend`); the
 better of the two on held-out cycles is its candidate, and the best candidate is kept when
 its addition again passes (a) against the first alone and against the first refitted with the
 candidate's own budget entries held at zero, the larger p-value (held out, at 0.05 over the number of
-fits tried, up to two for each of the K - 1 candidates; :func:`addition_p`), (b), (d) (refitted within
+fits tried, up to two for each of the K - 1 candidates; :func:`.effect_fit.addition_p`), (b), (d)
+(refitted within
 the model with the addition) and (e); of a candidate's two fits the best-scoring one that passes
 (a), (b) and (e) counts.  The first is then chosen again given the second,
 by the same rule, and again given the new partner while each swap raises the held-out score (the
-floating step, :func:`_rechoose_first`).  A third effect is then fitted on top of the two only (not
+floating step, :func:`.selection._rechoose_first`).  A third effect is then fitted on top of the two only (not
 jointly) and kept when it passes the same tests against them (at 0.05 / (K - 2)).
 When the selection leaves the material model error more than half open (it fails (c), or nothing
-was selected), the best subset of size two is searched (:func:`best_pair`): every pair fitted jointly
+was selected), the best subset of size two is searched (:func:`.selection.best_pair`): every pair
+fitted jointly
 from W, the best-scoring one passing (a) against W with both effects' own entries held at zero (at 0.05
 over the number of pairs), each effect's (a) given the other (at half that), (b) for each effect as
 fitted in the pair, (d) for each refitted within it, (e) and (c) becomes the selection; not where a
 single effect drifts.  ``effects`` lists the selected ones; the verdict's ``effect`` is the largest:
-the one that changes the twin's prediction most (:func:`contribution`).
+the one that changes the twin's prediction most (:func:`.effect_fit.contribution`).
 
 **Verdict.**  ``effect`` when the selection passes (c); otherwise ``unexplained``
 when the model error of the twin within its tolerance is *material* and no effect or
@@ -126,7 +129,7 @@ data within its tolerance.  Then structure the catalog cannot represent is looke
 (:mod:`..openset`): a significant torque as a function of the screw angle that removes more of the
 explaining model's held-out error than its effects removed turns ``effect`` into ``unexplained``
 (the effects closed less than half of what is explainable); a significant and material one turns
-``none`` into ``unexplained`` (:func:`open_set_verdict`).  Then the motor torque's scale
+``none`` into ``unexplained`` (:func:`.verdict.open_set_verdict`).  Then the motor torque's scale
 (:mod:`..scale`): when the verdict's model uses the budget's +-2 % on K_T x current gain up to its bound
 and the held-out torque wants significantly more, beyond the bound with 95 % confidence, every term
 of eq. 1 is read through a scale no catalog effect changes (a torque-constant loss, a current sensor
@@ -138,7 +141,7 @@ saw no motion, and ``effect`` or ``none`` becomes ``unexplained``.  And where th
 include a clearance growth, the lost-motion test (:mod:`..play`): when the release crosses that extra
 clearance with significantly and materially less friction than the travel after it, the lost motion
 is a play between motor and screw, not a clearance, and ``effect`` becomes ``unexplained``.
-Material means in physical units (:meth:`Scorer.unexplained_share`): the RMS model error beyond the
+Material means in physical units (:meth:`.scorer.Scorer.unexplained_share`): the RMS model error beyond the
 noise exceeds, as a share of what the channel predicts, the budget's bound on that channel
 (:data:`..tolerance.MATERIAL_SHARE`).  The point estimate decides.  Deciding with 95 % confidence
 instead, one-sided like (b) (the standard error of the weighted mean excess from the held-out
@@ -153,72 +156,34 @@ one it is ranked first: ``efficiency_variation`` nests ``load_friction`` and mus
 beat it significantly to be named.
 
 **Near-ties.**  An effect whose held-out residual does not differ from the top
-effect's at p < 0.05 (:func:`tie_p`) is reported as tied, with the operating range
+effect's at p < 0.05 (:func:`.effect_fit.tie_p`) is reported as tied, with the operating range
 (speed, force) where the two fitted models differ most in noise units
-(:func:`separating_experiment`): the experiment that would separate them.
+(:func:`.experiment.separating_experiment`): the experiment that would separate them.
 """
 
 from __future__ import annotations
 
-from ebm_wear_monitor.diagnosis.ranking.criteria import (
-    ALPHA,
-    DRIFT_ALPHA,
-    SHRINK_NEEDED,
-    TIE_ALPHA,
-    material_channels,
-    nominal_sse,
-    trend_p,
-    worsens,
-)
-from ebm_wear_monitor.diagnosis.ranking.effect_fit import (
-    EffectFit,
-    evaluate,
-    extend,
-    sampling_bound,
-    sampling_caution,
-    size_gradient,
-    without_own,
-)
+from ebm_wear_monitor.diagnosis.ranking.criteria import ALPHA, SHRINK_NEEDED, TIE_ALPHA, material_channels
+from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit, evaluate, nominal_sse, sampling_caution
 from ebm_wear_monitor.diagnosis.ranking.experiment import separating_experiment
-from ebm_wear_monitor.diagnosis.ranking.scorer import METRIC, Fit, Model, Scorer, fit, split_by_cycle
-from ebm_wear_monitor.diagnosis.ranking.selection import best_pair
-from ebm_wear_monitor.diagnosis.ranking.verdict import (
-    OpenSet,
-    Ranking,
-    motor_scale,
-    open_set_verdict,
-    rank,
-    ranked_fits,
-)
+from ebm_wear_monitor.diagnosis.ranking.scorer import METRIC, Model, Scorer
+from ebm_wear_monitor.diagnosis.ranking.verdict import OpenSet, Ranking, rank, ranked_fits
 
 __all__ = [
     "ALPHA",
-    "DRIFT_ALPHA",
     "METRIC",
     "SHRINK_NEEDED",
     "TIE_ALPHA",
     "EffectFit",
-    "Fit",
     "Model",
     "OpenSet",
     "Ranking",
     "Scorer",
-    "best_pair",
     "evaluate",
-    "extend",
-    "fit",
     "material_channels",
-    "motor_scale",
     "nominal_sse",
-    "open_set_verdict",
     "rank",
     "ranked_fits",
-    "sampling_bound",
     "sampling_caution",
     "separating_experiment",
-    "size_gradient",
-    "split_by_cycle",
-    "trend_p",
-    "without_own",
-    "worsens",
 ]

@@ -1,5 +1,6 @@
 """The noise of the block residuals: propagated from the sensors, the torque of the transients the
-sampling does not resolve, and the scales the residual itself shows (:meth:`.scorer.Scorer.noise_scale`).
+sampling does not resolve, and the estimates from which :meth:`.scorer.Scorer.noise_scale` takes the
+scales the residual itself shows.
 """
 
 from __future__ import annotations
@@ -15,14 +16,15 @@ from ebm_wear_monitor.diagnosis.residuals import ResidualModel
 #: raw signal's second differences carry its own dynamics, a current sampled below its controller's
 #: bandwidth), not below this: a residual below a tenth of it is the resolution of a noise-free signal
 NOISE_SCALE_MIN = 0.1
-#: fewest rows a median scale is measured on (:meth:`Scorer.noise_scale`)
+#: fewest rows a median scale is measured on (:meth:`.scorer.Scorer.noise_scale`)
 MIN_SCALE_ROWS = 10
 #: fewest lag-2 differences a phase's residual-based noise is taken from (:func:`quietest_phase_noise`)
 QUIET_DIFFS = 12
 
 
 class NoiseScale(NamedTuple):
-    """What the residual says of the noise propagated from the sensors (:meth:`Scorer.noise_scale`)."""
+    """What the residual says of the noise propagated from the sensors
+    (:meth:`.scorer.Scorer.noise_scale`)."""
 
     torque: float  # c_T [-]: scale of the propagated torque noise
     transient: float  # c_E [-]: scale of the unresolved-transient term
@@ -93,9 +95,9 @@ def contact_spread(model: ResidualModel, r_force: np.ndarray, sigma: np.ndarray)
     return float(np.sqrt(max(np.var(means, ddof=1) - np.mean(noise), 0.0)))
 
 
-def residual_scale(lag2: float | None, r: np.ndarray, s: np.ndarray,
+def noise_scale_estimate(lag2: float | None, r: np.ndarray, s: np.ndarray,
                    extra: np.ndarray | None = None) -> float:
-    """One scale of :meth:`Scorer.noise_scale`: the smaller of the lag-2 estimate ``lag2`` (None or 0:
+    """One scale of :meth:`.scorer.Scorer.noise_scale`: the smaller of the lag-2 estimate ``lag2`` (None or 0:
     none) and the median scale of the rows ``r`` against their noise ``s`` beside ``extra``
     (:func:`..noise.median_scale`; none under ``MIN_SCALE_ROWS`` rows); 1 without either estimate,
     never below ``NOISE_SCALE_MIN``."""

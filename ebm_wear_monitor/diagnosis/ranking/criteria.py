@@ -1,5 +1,7 @@
-"""The levels and tests an effect must pass to count (the package docstring's (a)-(e)): materiality per
-channel, test (e), and the stationarity test (d) of a friction effect.
+"""The verdict's levels and two of the tests an effect must pass to count (the package docstring's (a)-(e)):
+materiality per channel, the consistency test (e) and the stationarity test (d) of a friction effect;
+(a) and (b) are properties of a fitted effect (:class:`.effect_fit.EffectFit`), (c) is asked in
+:func:`.verdict.rank`.
 """
 
 from __future__ import annotations
@@ -8,7 +10,7 @@ import numpy as np
 from scipy import stats
 
 from ebm_wear_monitor.diagnosis import tolerance
-from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit, delta_size_std, size_gradient
+from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit, delta_method_std, size_gradient
 from ebm_wear_monitor.diagnosis.ranking.scorer import Scorer, fit
 from ebm_wear_monitor.diagnosis.residuals import CHANNELS
 from ebm_wear_monitor.schema.diagnose import Drift
@@ -23,10 +25,6 @@ def material_channels(share: dict[str, float]) -> list[str]:
     bound (:data:`..tolerance.MATERIAL_SHARE`)."""
     return [ch for ch in CHANNELS if share[ch] > tolerance.MATERIAL_SHARE[ch]]
 
-
-def nominal_sse(sc: Scorer) -> np.ndarray:
-    """Held-out sum of z^2 per cycle of the twin within its tolerance (the baseline of :func:`evaluate`)."""
-    return sc.cycle_sse(sc.base)
 
 
 def is_supported(sc: Scorer, f: EffectFit, level: float, w_share: dict[str, float]) -> bool:
@@ -55,7 +53,8 @@ MAY_DRIFT = frozenset({"clearance_growth", "force_sensor_bias", "stiffness_nonli
 
 
 def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
-    """Does a friction effect hold over the recording?  Refit on the early and the late half (module doc).
+    """Does a friction effect hold over the recording?  Refit on the early and the late half (package
+    docstring, (d)).
 
     The brake cycles (calibration and held-out: this tests a property of the unit, not the held-out fit)
     are split at their median time; the effect's parameters alone are refitted on each half (nuisances
@@ -77,7 +76,7 @@ def drift_test(sc: Scorer, f: EffectFit) -> Drift | None:
     for half in (cycles[early], cycles[~early]):
         g = fit(sc, f.effect, f.model, mask=np.isin(cycle, half), only_effect=True)
         sizes.append(float(f.effect.size(g.theta)))
-        errs.append(delta_size_std(f.effect, g.theta, g.stderr))
+        errs.append(delta_method_std(f.effect, g.theta, g.stderr))
     diff, sd = sizes[1] - sizes[0], float(np.hypot(errs[0], errs[1]))
     p = _time_trend_p(sc, f, cycles)
     drifting = abs(diff) > max(f.floor, 3.0 * sd) and p < DRIFT_ALPHA

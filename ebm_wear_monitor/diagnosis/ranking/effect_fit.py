@@ -13,11 +13,7 @@ from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
 from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
 from ebm_wear_monitor.diagnosis.ranking.scorer import NUISANCE_ONLY, Fit, Model, Scorer, fit, merge_augment
-from ebm_wear_monitor.diagnosis.residuals import (
-    CHANNELS,
-    NOMINAL,
-    Augment,
-)
+from ebm_wear_monitor.diagnosis.residuals import CHANNELS, NOMINAL, Augment
 from ebm_wear_monitor.schema.diagnose import Drift, Parameter, RankingEntry, Size
 
 
@@ -40,7 +36,8 @@ class EffectFit:
     floor: float = 0.0  # detectability floor of the size (:mod:`..tolerance`)
     share: dict[str, float] = field(default_factory=dict)  # unexplained share per channel with the effect
     contribution: float = 0.0  # RMS change of the channel's prediction, share of its RMS signal
-    drift: Drift | None = None  # early/late refit of a friction effect (:func:`drift_test`), when tested
+    #: early/late refit of a friction effect (:func:`.criteria.drift_test`), when tested
+    drift: Drift | None = None
     ties: list[str] = field(default_factory=list)
     #: worst-case change of the size by what the sampling does not resolve (:func:`sampling_bound`; of the
     #: effect fitted alone; None: not computed), in the size's unit
@@ -129,9 +126,15 @@ def sampling_caution(f: EffectFit) -> bool:
     return f.sampling is not None and margin > 0.0 and f.sampling > margin
 
 
-def delta_size_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
+def delta_method_std(effect: Effect, theta: np.ndarray, stderr: np.ndarray) -> float:
     """Standard deviation of the size by the delta method (independent parameters)."""
     return float(np.sqrt(np.sum((size_gradient(effect, theta) * stderr) ** 2)))
+
+
+def nominal_sse(sc: Scorer) -> np.ndarray:
+    """Held-out sum of z^2 per cycle of the twin within its tolerance (the baseline of
+    :func:`evaluate`)."""
+    return sc.cycle_sse(sc.base)
 
 
 def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float,
@@ -141,8 +144,9 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
 
     ``tested=False`` skips the test against the twin within its tolerance (a fit of W_E,
     :func:`base_without_own`; ``p_value`` stays 1): an effect added in the forward selection is tested
-    against the effects it extends instead (:func:`_addition`), which sets ``p_value``, and the first
-    noise pass (:func:`ranked_fits`) needs only the order.
+    against the effects it extends instead (:func:`.selection._addition`), which sets ``p_value``, and the
+    first
+    noise pass (:func:`.verdict.ranked_fits`) needs only the order.
     """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
@@ -155,7 +159,7 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     if tested:
         ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
-    ef.size_std = delta_size_std(effect, f.theta, f.stderr)
+    ef.size_std = delta_method_std(effect, f.theta, f.stderr)
     ef.sampling = sampling_bound(effect, f)
     ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
     ef.share = sc.unexplained_share(f.model)
@@ -167,7 +171,8 @@ def extend(sc: Scorer, first: EffectFit, second: Effect, s_before: np.ndarray,
            gap_before: float) -> EffectFit:
     """The pair ``first`` + ``second`` as a nested extension: ``first``'s parameters stay as fitted, and
     so do its nuisances and tolerances outside ``second``'s channels; ``second`` is fitted on top of it
-    with the nuisances and free tolerances of its own channels (:func:`_free_tolerances`: refitted from
+    with the nuisances and free tolerances of its own channels (:func:`.scorer._free_tolerances`:
+    refitted from
     ``first``'s values, ``second``'s own budget entries held at zero). ``second``'s standard errors are
     conditional on ``first``'s parameters (their uncertainty is not propagated).
 
@@ -205,7 +210,8 @@ def base_without_own(sc: Scorer, effect: Effect) -> Model:
 
 
 def addition_p(sc: Scorer, current: EffectFit, added: Effect, together: EffectFit) -> float:
-    """Test (a) of an addition (:func:`_addition`): ``together`` must improve on held-out cycles both on
+    """Test (a) of an addition (:func:`.selection._addition`): ``together`` must improve on held-out
+    cycles both on
     ``current`` and on ``current`` refitted with the added effect's own budget entries held at zero
     (:func:`without_own`); the larger of the two one-sided p-values.  Against ``current`` alone, whose
     tolerances already mimic the candidate up to its floor, a real second effect would look weaker than

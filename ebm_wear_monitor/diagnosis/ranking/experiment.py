@@ -6,11 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit
-from ebm_wear_monitor.diagnosis.residuals import (
-    Augment,
-    clamp_spring,
-    kinetic_friction,
-)
+from ebm_wear_monitor.diagnosis.residuals import Augment, clamp_spring, kinetic_friction
 from ebm_wear_monitor.schema.diagnose import NearTie
 from ebm_wear_monitor.twin.dynamics import ActuatorModel
 

@@ -18,8 +18,8 @@ from ebm_wear_monitor.diagnosis.ranking.blocknoise import (
     MIN_SCALE_ROWS,
     NoiseScale,
     contact_spread,
+    noise_scale_estimate,
     quietest_phase_noise,
-    residual_scale,
     sensor_noise,
 )
 from ebm_wear_monitor.diagnosis.residuals import (
@@ -148,7 +148,8 @@ class Scorer:
         pad-contact spread (:func:`contact_spread`) at the scaled force noise.
 
         The noise the block residuals carry is sigma_T^2 = (c_T s_T)^2 + (c_E e_T)^2 and sigma_F^2 =
-        (c_F s_F)^2 + spread^2, s the noise propagated from the sensors (:func:`block_noise`), e_T the
+        (c_F s_F)^2 + spread^2, s the noise propagated from the sensors (:func:`.blocknoise.block_noise`),
+        e_T the
         torque of the transients the sampling does not resolve (:func:`sensor_noise`). Each scale is
         measured where its term dominates: c_T on the moving blocks with e_T <= s_T (all moving blocks when
         fewer than ``MIN_SCALE_ROWS``), c_E on those with e_T > s_T (given c_T), c_F on every force row;
@@ -185,10 +186,10 @@ class Scorer:
         steady = b.moving & ~trans
         if steady.sum() < MIN_SCALE_ROWS:
             steady = b.moving
-        c_t = residual_scale(quietest_phase_noise(r_t / s_t, model, b.moving),
+        c_t = noise_scale_estimate(quietest_phase_noise(r_t / s_t, model, b.moving),
                            r_t[steady], s_t[steady], extra_t[steady])
-        c_e = residual_scale(None, r_t[trans], extra_t[trans], c_t * s_t[trans])
-        c_f = residual_scale(quietest_phase_noise(r_f / s_f, model, np.ones(b.size, bool)),
+        c_e = noise_scale_estimate(None, r_t[trans], extra_t[trans], c_t * s_t[trans])
+        c_f = noise_scale_estimate(quietest_phase_noise(r_f / s_f, model, np.ones(b.size, bool)),
                            r_f[rows_f], s_f[rows_f])
         return NoiseScale(c_t, c_e, c_f, contact_spread(model, r_f, c_f * s_f))
 
@@ -367,7 +368,7 @@ def _free_tolerances(sc: Scorer, effect_names: list[str], channels: tuple[str, .
 def difference_step(x: float, unit: float, upper: float) -> float:
     """Forward-difference step at ``x`` for a quantity of typical magnitude ``unit``: 1e-3 of the larger
     of the two, taken backward where it would cross the ``upper`` bound (the solver's Jacobian,
-    :func:`fit`, and the scale test's refit, :func:`owner_columns`)."""
+    :func:`fit`, and the scale test's refit, :func:`.verdict.owner_columns`)."""
     h = 1e-3 * max(unit, abs(x))
     return -h if x + h > upper else h
 

@@ -15,7 +15,7 @@ from ebm_wear_monitor.diagnosis.ranking.effect_fit import (
     EffectFit,
     addition_p,
     contribution,
-    delta_size_std,
+    delta_method_std,
     evaluate,
     extend,
 )
@@ -32,7 +32,7 @@ def _part(f: EffectFit, theta: np.ndarray, stderr: np.ndarray) -> EffectFit:
     errors from that fit, its size and size error from them (its model and held-out scores stay those of
     ``f`` alone)."""
     return dataclasses.replace(f, theta=theta, stderr=stderr, size=float(f.effect.size(theta)),
-                               size_std=delta_size_std(f.effect, theta, stderr))
+                               size_std=delta_method_std(f.effect, theta, stderr))
 
 
 def _in_model(part: EffectFit, model: EffectFit, offset: int) -> EffectFit:

@@ -1,5 +1,7 @@
-"""The ranking of the single effects and the verdict (the package docstring's "Verdict", "Parsimony",
-"Near-ties"), with the open-set, scale, rest and lost-motion tests of the verdict's model.
+"""The ranking of the single effects and the verdict (the package docstring's "Verdict", "Parsimony" and
+the near-tie flags; the tie test is :func:`.effect_fit.tie_p`, the separating experiment
+:func:`.experiment.separating_experiment`), with the open-set, scale, rest and lost-motion tests of the
+verdict's model.
 """
 
 from __future__ import annotations
@@ -14,14 +16,8 @@ from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.play import LostMotion, lost_motion
-from ebm_wear_monitor.diagnosis.ranking.criteria import (
-    ALPHA,
-    SHRINK_NEEDED,
-    TIE_ALPHA,
-    material_channels,
-    nominal_sse,
-)
-from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit, evaluate, tie_p
+from ebm_wear_monitor.diagnosis.ranking.criteria import ALPHA, SHRINK_NEEDED, TIE_ALPHA, material_channels
+from ebm_wear_monitor.diagnosis.ranking.effect_fit import EffectFit, evaluate, nominal_sse, tie_p
 from ebm_wear_monitor.diagnosis.ranking.scorer import Model, Scorer, difference_step, merge_augment
 from ebm_wear_monitor.diagnosis.ranking.selection import best_pair, forward_select
 from ebm_wear_monitor.diagnosis.scale import TorqueScale, budget_bound, entry_index, torque_scale
@@ -65,7 +61,8 @@ class Ranking:
 
     fits: list[EffectFit]  # single effects, best first
     selected: list[EffectFit]  # forward selection: the effects the data support, in order of selection
-    # (the floating step, :func:`_rechoose_first`, may list the second before the re-chosen first), or
+    # (the floating step, :func:`.selection._rechoose_first`, may list the second before the re-chosen
+    # first), or
     # the best pair of two (:func:`best_pair`) in the order of its fit
     joint: EffectFit | None  # the selected effects fitted together (None when none is selected)
     best_pair_shrink: float  # largest share of the material gap a single effect or any pair tried closes
