@@ -57,34 +57,33 @@ data as a catalog effect, so the diagnosis names the effect and says what else i
   where the sampling puts at least two samples (one interval) in each window across the play; where
   it cannot, or finds the clearance's friction, the summary says which.
 
-**Limits.**  Parameters that would make the twin unphysical, or the effect another than its name, are
-out of reach of the fit: 004 eq. 9's friction stays dissipative (T_fc + dT >= 0: a negative coefficient
+**Limits.** Parameters that would make the twin unphysical, or the effect another than its name, are out
+of reach of the fit: 004 eq. 9's friction stays dissipative (T_fc + dT >= 0: a negative coefficient
 would drive the motion it opposes), the viscous drag and the load-dependent friction only grow (dB >= 0,
 dG >= 0), a clearance growth only widens the clearance of eq. 5 (dx >= 0) and the clamp's tangent
-stiffness stays positive up to the largest recorded force (K_b + 2 k_2 d_max >= 0).  The two friction
+stiffness stays positive up to the largest recorded force (K_b + 2 k_2 d_max >= 0). The two friction
 limits are the effects' definitions (interface.md section 4: "lubricant viscous drag larger than
 modelled", "load-dependent friction larger than modelled"; 004's reasons 1, 2 and 5 are friction the
 model leaves out): a drag or a load friction below the twin's is no such effect, and naming it so would
-report a viscous drag of minus a quarter of B.  It is what the sampling makes of some healthy units: at
-200-250 Hz the current's trapezoid misses transients shorter than a sample interval, and four healthy
-units of the foreign and third worlds (none_r018, none_x012, third-world seed 9 ``healthy_11`` and seed
-15 ``healthy_03``) read as viscous drags of -25 % to -64 % of B before these limits (README, "One-sided
-friction").  Before them the limits were the dissipative ones (B + dB >= 0, G + dG >= 0), which a
-preload relieved by the load, read as a viscous drag of -230 % of B, reached.  The
-clearance's limit is the effect's definition (interface.md section 4: "axial clearance larger than
-nominal", the wear of balls and raceways, which removes material and never closes the gap): a contact
-reached after less travel than the unit file's x_ag is no wear (an ECU that parks the nut closer to the
-pads than the unit file says, a thicker pad), and naming it as this effect would report a wear of
-minus some micrometres (a third, independently written world's healthy units, whose force loop parks
-within its angle tolerance short of its rest target, read -7.5 and -8.4 um of "clearance growth"
-before this limit; README "Third world").  On the foreign draws the same limit removes a second effect
-that was listed beside nearly every foreign bilinear clamp stiffness (a soft first segment, then a
-stiffer one): a negative clearance change standing in for the soft segment's later rise, listed with
-the stiffness in 27 of 30 such recordings of the fifteen mixed draws and in the Stribeck + stiffness
-pairs, where the pair is now named exactly.  An effect
-whose fit sits on such a limit is not named (:attr:`.ranking.EffectFit.nameable`): the data want more
-of it than it can physically give, so its form is not what they show (a friction that falls only at
-low load, a preload relieved by the load, was read as a viscous drag of -230 % of B: a negative B).
+report a viscous drag of minus a quarter of B. It is what the sampling makes of some healthy units: the
+speed the inertia term takes from the angle lags where the acceleration changes within a window (README,
+"Speed windows"), and four healthy units of the foreign and third worlds (none_r018 and none_x012 at 250
+Hz, third-world seed 9 ``healthy_11`` and seed 15 ``healthy_03``) read as viscous drags of -24 % to -64
+% of B before these limits (README, "One-sided friction"). Before them the limits were the dissipative
+ones (B + dB >= 0, G + dG >= 0), which a preload relieved by the load, read as a viscous drag of -230 %
+of B, reached. The clearance's limit is the effect's definition (interface.md section 4: "axial
+clearance larger than nominal", the wear of balls and raceways, which removes material and never closes
+the gap): a contact reached after less travel than the unit file's x_ag is no wear (an ECU that parks
+the nut closer to the pads than the unit file says, a thicker pad), and naming it as this effect would
+report a wear of minus some micrometres (a third, independently written world's healthy units, whose
+force loop parks within its angle tolerance short of its rest target, read -7.5 and -8.4 um of
+"clearance growth" before this limit; README "Third world"). On the foreign draws the same limit removes
+a second effect that was listed beside nearly every foreign bilinear clamp stiffness (a soft first
+segment, then a stiffer one): a negative clearance change standing in for the soft segment's later rise,
+listed with the stiffness in 27 of 30 such recordings of the fifteen mixed draws and in the Stribeck +
+stiffness pairs, where the pair is now named exactly. An effect whose fit sits on such a limit is not
+named (:attr:`.ranking.EffectFit.nameable`): the data want more of it than it can physically give, or
+the opposite of what it names, so its form is not what they show.
 (The efficiency's loss factor is kept non-negative by no box on its two parameters and is left free.)
 
 ``scale`` gives a typical magnitude per parameter (the solver's scaling);
