@@ -87,7 +87,9 @@ the opposite of what it names, so its form is not what they show.
 (The efficiency's loss factor is kept non-negative by no box on its two parameters and is left free.)
 
 ``scale`` gives a typical magnitude per parameter (the solver's scaling);
-``starts`` lists starting points (several for the non-linear Stribeck speed).
+``starts`` lists starting points (several for the non-linear Stribeck speed; the one-sided frictions
+start one scale inside their limit: a start on a bound of zero gives scipy's trust-region solver a first
+radius of the start's norm, and a fit of the effect alone, as the drift test's halves, stopped there).
 """
 
 from __future__ import annotations
@@ -186,13 +188,14 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
     w_lo, w_hi = speed_range
     effects = [
         Effect("viscous_friction", "lubricant viscous drag larger than modelled (004 reason 1)",
-               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(f.viscous, 1e-4),), ((0.0,),),
-               limits=(0.0,), size=lambda p: abs(p[0]) / f.viscous, size_meaning="fraction of B",
+               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(f.viscous, 1e-4),),
+               ((0.1 * max(f.viscous, 1e-4),),), limits=(0.0,), size=lambda p: abs(p[0]) / f.viscous,
+               size_meaning="fraction of B",
                nominal=(("B", f.viscous),)),
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
                ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(f.load_coefficient, 1e-6),),
-               ((0.0,),), limits=(0.0,), size=lambda p: abs(p[0]) / f.load_coefficient,
-               size_meaning="fraction of G",
+               ((0.1 * max(f.load_coefficient, 1e-6),),), limits=(0.0,),
+               size=lambda p: abs(p[0]) / f.load_coefficient, size_meaning="fraction of G",
                nominal=(("G", f.load_coefficient),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",
                ("a_0", "a_w"), ("-", "s/rad"), lambda p: Augment(eff_base=p[0], eff_speed=p[1]),

@@ -163,10 +163,13 @@ NUISANCE_WORDS = {
 
 
 def effect_note(f: EffectFit) -> str:
-    """Why a fit that looks large is not named, in words: it drifts, or it ended on a physical limit."""
+    """Why a fit that looks large is not named, in words: it drifts, or it ended on a limit: a physical one,
+    or zero for an effect that only grows (the data want the opposite of what it names)."""
     notes = ["drifts within the recording"] if f.drifting else []
     if f.at_limit:
-        notes.append("fit ended on a physical limit (never named)")
+        one_sided = f.effect.limits is not None and not any(f.effect.limits)
+        notes.append("fit ended at zero: the data want the opposite of this effect (never named)" if one_sided
+                     else "fit ended on a physical limit (never named)")
     return "; ".join(notes)
 
 

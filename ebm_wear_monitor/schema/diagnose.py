@@ -108,9 +108,10 @@ class RankingEntry(Record):
     p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
     k: int = quantity("-", "number of fitted parameters", json="k")
     material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
-    at_limit: bool = quantity("", "a parameter ended on its physical limit (a dissipation or the clamp's "
-                              "tangent stiffness at zero, a clearance growth at zero: wear only widens "
-                              "the clearance); a catalog effect so fitted is never named", json="at_limit")
+    at_limit: bool = quantity("", "a parameter ended on its limit: a physical one (a dissipation or the "
+                              "clamp's tangent stiffness at zero) or the effect's definition (a clearance "
+                              "growth, a viscous drag or a load friction at zero: each only grows); a "
+                              "catalog effect so fitted is never named", json="at_limit")
     drift: Drift | None = quantity("", "early/late refit (null: not tested)", json="drift")
     size: Size = quantity("", "its size against its detectability floor", json="size")
     magnitude: dict[str, Magnitude] = quantity("", "fitted size per parameter, in physical units of the unit",

@@ -5,8 +5,9 @@ integrator holds the force over each step: the left-rectangle rule, whose
 difference from the trapezoid looked like a smaller viscous friction before
 the quadrature nuisance existed), and an independent solve_ivp integration with
 a continuous control law, the current sampled instantaneously or as a period
-mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).  And the two healthy units of the other worlds
-that are still named, kept as strict expected failures.
+mean (:mod:`ebm_wear_monitor.diagnosis.reference_sim`).  And two healthy units of the other worlds,
+diagnosed blind and named a viscous drag below the twin's until the catalog's viscous friction became
+one-sided.
 """
 
 import pytest
@@ -82,41 +83,22 @@ def test_reference_simulator_rejects_unknown_input(unit):
         simulate_reference(unit, DEMANDS, cycles=4, effects={"stribeck": 1.0})
 
 
-KNOWN = ("a known false positive, README 'Speed windows': a viscous change named on a healthy unit of "
-         "another world; strict, so that a fix that names nothing here has to update the README")
-
-
-def expect_none(verdict: str, named: str | None) -> None:
-    """The expected failure is only the known one: ``none`` passes (the strict xfail then fails the
-    suite), the known viscous change fails as expected, anything else (another verdict, a generator that
-    does not write) is a new failure."""
-    if verdict != "none" and named != "viscous_friction":
-        pytest.fail(f"not the known false positive: {verdict} {named}")
-    assert verdict == "none", named
-
-
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=KNOWN)
 def test_the_blind_foreign_healthy_unit_at_250_hz_reads_none(tmp_path):
     """``full_r`` none_r018 of the independently written foreign generator (angle 250 Hz, force and
-    current 200 Hz, cascade ECU), diagnosed blind at 03faf7a: viscous -64 % of B, named. With the
-    generator's true speed in the inertia term of the diagnosis's own fit it reads +15 % +- 16 %: the
-    angle's speed regression lags where the acceleration changes within a phase run. A correction of
-    that speed by the bias the twin predicts fixed this unit and named three others (README, "Speed
-    windows"), so it was not kept."""
+    current 200 Hz, cascade ECU), diagnosed blind at 03faf7a: a viscous drag of -64 % of B, named, until
+    the catalog's viscous friction became what interface.md defines, a drag larger than modelled (catalog
+    module docstring, "Limits"; README, "One-sided friction"). With the generator's true speed in the
+    inertia term of the diagnosis's own fit it reads +15 % +- 16 %: the angle's speed regression lags where
+    the acceleration changes within a phase run (README, "Speed windows"). Not blind since."""
     res = foreign_diagnosis("full_r", "none_r018", tmp_path)
-    if res.verdict != "none" and not res.sampling_caution:  # not an AssertionError: a failure of its own
-        pytest.fail("the known false positive lost its sampling caution (README, \"The sampling's share\")")
-    expect_none(res.verdict, res.effect)
+    assert res.verdict == "none", (res.verdict, res.effects)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=KNOWN)
 def test_the_blind_third_world_healthy_unit_of_seed_9_reads_none(tmp_path):
     """Seed 9's ``healthy_11`` of the third world (profile-position ECU, angle 2 kHz, current averaged at
-    1 kHz), diagnosed blind: viscous -24 % of B, named. The speed from the angle, one-sided at the ends
-    of each phase run, sets the inertia term there (README)."""
+    1 kHz), diagnosed blind: a viscous drag of -24 % of B, named, until the one-sided viscous friction
+    (as above). The speed from the angle, one-sided at the ends of each phase run, sets the inertia term
+    there (README)."""
     (row,) = third_diagnosis(tmp_path, 9, "healthy_11").case_results
-    if row.kind != "none":
-        pytest.fail(f"healthy_11 is not a no-effect case: {row.kind}")
-    if row.verdict != "none" and not row.sampling_caution:
-        pytest.fail("the known false positive lost its sampling caution (README, \"The sampling's share\")")
-    expect_none(row.verdict, row.diagnosed)
+    assert row.kind == "none"
+    assert row.verdict == "none", (row.verdict, row.effects)

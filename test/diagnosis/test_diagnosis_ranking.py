@@ -543,29 +543,44 @@ def test_a_foreign_viscous_drag_too_weak_to_name_is_the_nearest_effect_of_the_su
     assert viscous.material and 0.05 / len(res.ranking) <= viscous.p_value < 0.05
 
 
-def test_the_fit_stops_at_the_physical_limits_and_an_effect_on_its_limit_is_not_named():
+def test_the_fit_stops_at_the_limits_and_an_effect_on_its_limit_is_not_named():
     """Data whose viscous drag is B - 2 B (a negative B, no real drive has it): the viscous fit stops at
-    dB = -B (004 eq. 9 stays dissipative) and, on its limit, is not named; the catalog's limits are the
-    unit file's own coefficients (catalog module docstring, "Limits")."""
+    dB = 0, the effect's definition ("lubricant viscous drag larger than modelled", interface.md section 4),
+    and, on its limit, is not named; the load friction is one-sided the same way, the preload's limit is
+    physical (T_fc + dT >= 0; catalog module docstring, "Limits")."""
     f = NOM.friction
     sc, model = scorer(Augment(dB=-2.0 * f.viscous), seed=2, cycles=12)
     cat = catalog(model)
-    assert cat["viscous_friction"].limits == (-f.viscous,)
-    assert cat["load_friction"].limits == (-f.load_coefficient,)
+    assert cat["viscous_friction"].limits == (0.0,)
+    assert cat["load_friction"].limits == (0.0,)
     assert cat["preload_change"].limits == (-f.coulomb,)
     assert cat["clearance_growth"].limits == (0.0,)  # wear only widens the clearance
     r = rank(sc, cat)
     viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
-    assert viscous.theta[0] == pytest.approx(-f.viscous, rel=1e-3)  # on the limit, not beyond
-    assert viscous.material and not viscous.nameable
+    assert viscous.theta[0] == pytest.approx(0.0, abs=1e-3 * cat["viscous_friction"].scale[0])  # not below
+    assert not viscous.nameable
     entry = viscous.entry()  # the ranking and the report's table say why it is not named
-    assert entry.at_limit and entry.material and "physical limit" in effect_note(viscous)
-    load = next(e for e in r.fits if e.effect.name == "load_friction")  # G is nominal: far off G + dG = 0
-    assert not load.entry().at_limit and "physical limit" not in effect_note(load)
+    assert entry.at_limit and "the data want the opposite" in effect_note(viscous)
     assert "viscous_friction" not in [e.effect.name for e in r.selected]
-    # the refitted friction law reported beside the ranking keeps B >= 0 too
+    # the refitted friction law reported beside the ranking keeps B >= 0, a physical limit
     refit = fit(sc, friction_refit(NOM), sc.base)
     assert refit.theta[1] == pytest.approx(-f.viscous, rel=1e-3)
+
+
+def test_a_drag_smaller_than_the_twins_is_no_viscous_friction_and_a_larger_one_is():
+    """A drag 60 % below the twin's B (a warm, thin grease; no catalog effect: the catalog's viscous
+    friction is a drag larger than modelled) is not named as one; the same unit with the drag 60 % above
+    B names it, with its size."""
+    f = NOM.friction
+    sc, model = scorer(Augment(dB=-0.6 * f.viscous), seed=4, cycles=12)
+    r = rank(sc, catalog(model))
+    assert "viscous_friction" not in [e.effect.name for e in r.selected]
+    viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
+    assert viscous.at_limit and not viscous.nameable
+    sc, model = scorer(Augment(dB=0.6 * f.viscous), seed=4, cycles=12)
+    r = rank(sc, catalog(model))
+    assert r.verdict == "effect" and r.effect is not None and r.effect.effect.name == "viscous_friction"
+    assert r.effect.size == pytest.approx(0.6, abs=max(4.0 * r.effect.size_std, 0.1))
 
 
 
