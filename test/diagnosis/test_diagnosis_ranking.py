@@ -517,16 +517,17 @@ def test_an_effect_that_does_not_shrink_the_held_out_gap_is_not_named(monkeypatc
 
 def test_a_foreign_healthy_unit_whose_best_effect_leaves_the_gap_is_none(tmp_path):
     """The case that prompted (c)'s second half, from the independently written foreign generator: a
-    healthy unit recorded at 200 Hz (``full_g`` none_g003), on which a viscous change is significant
-    against the twin within its tolerance and material, yet leaves the held-out gap no smaller than the
-    nominal twin's. Not a blind test (the rule was written after this case); the other healthy foreign
-    units and every effect verdict of the foreign draws are the wider check (README)."""
+    healthy unit recorded at 200 Hz (``full_g`` none_g003), on which a viscous change was significant
+    against the twin within its tolerance and material (38 % +- 7 % of B), yet left the held-out gap no
+    smaller than the nominal twin's. The change was a drag *below* the twin's: with the catalog's viscous
+    friction one-sided (a drag larger than modelled, interface.md) its fit stops at zero and the unit
+    reads ``none`` before (c) is asked; the rule itself is tested on closed-form data above. Not a blind
+    test; the other healthy foreign units and every effect verdict of the foreign draws are the wider
+    check (README)."""
     res = foreign_diagnosis("full_g", "none_g003", tmp_path)
     assert res.verdict == "none" and res.effects == []
     viscous = next(e for e in res.ranking if e.effect == "viscous_friction")
-    assert viscous.p_value < 0.05 / len(res.ranking)  # significant against the tolerant twin
-    assert viscous.gap_after >= res.gap_before  # ... and no shrink of the held-out gap
-    assert "Nearest, not named: lubricant viscous drag" in res.summary and "does not explain" in res.summary
+    assert viscous.at_limit and viscous.parameters["dB"].value == pytest.approx(0.0, abs=1e-6)
 
 
 def test_a_foreign_viscous_drag_too_weak_to_name_is_the_nearest_effect_of_the_summary(tmp_path):
@@ -569,18 +570,18 @@ def test_the_fit_stops_at_the_limits_and_an_effect_on_its_limit_is_not_named():
 
 def test_a_drag_smaller_than_the_twins_is_no_viscous_friction_and_a_larger_one_is():
     """A drag 60 % below the twin's B (a warm, thin grease; no catalog effect: the catalog's viscous
-    friction is a drag larger than modelled) is not named as one; the same unit with the drag 60 % above
-    B names it, with its size."""
+    friction is a drag larger than modelled) is not named as one; the same unit with the drag doubled
+    names it, with its size."""
     f = NOM.friction
     sc, model = scorer(Augment(dB=-0.6 * f.viscous), seed=4, cycles=12)
     r = rank(sc, catalog(model))
     assert "viscous_friction" not in [e.effect.name for e in r.selected]
     viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
     assert viscous.at_limit and not viscous.nameable
-    sc, model = scorer(Augment(dB=0.6 * f.viscous), seed=4, cycles=12)
+    sc, model = scorer(Augment(dB=1.0 * f.viscous), seed=4, cycles=12)
     r = rank(sc, catalog(model))
     assert r.verdict == "effect" and r.effect is not None and r.effect.effect.name == "viscous_friction"
-    assert r.effect.size == pytest.approx(0.6, abs=max(4.0 * r.effect.size_std, 0.1))
+    assert r.effect.size == pytest.approx(1.0, abs=max(4.0 * r.effect.size_std, 0.1))
 
 
 
