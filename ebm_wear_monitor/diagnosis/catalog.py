@@ -10,8 +10,9 @@ channels the effect acts in.
 ==========================  ==============================================================  =============
 name                        augmentation (motor shaft, s = sgn(w_m); nut side for forces)   parameters
 ==========================  ==============================================================  =============
-viscous_friction            T_f += dB w_m (004 eq. 9, reason 1: lubricant drag left out)    dB [N m s/rad]
-load_friction               G -> G + dG in the moving branch of 004 eq. 9                   dG [N m/N]
+viscous_friction            T_f += dB w_m, dB >= 0 (004 eq. 9, reason 1: lubricant drag     dB [N m s/rad]
+                            left out; a drag larger than modelled)
+load_friction               G -> G + dG, dG >= 0, in the moving branch of 004 eq. 9         dG [N m/N]
                             (reasons 2 and 5: roughness, lubrication, coaxiality)
 efficiency_variation        T_f += s T_L (a_0 + a_w |w_m|): the loss factor 1/eta - 1 of   a_0 [-],
                             004 eq. 29 varying with speed                                   a_w [s/rad]
@@ -120,8 +121,8 @@ class Effect:
     starts: tuple[tuple[float, ...], ...]  # starting points of the fit
     lower: tuple[float, ...] | None = None  # bounds (None: unbounded)
     upper: tuple[float, ...] | None = None
-    #: physical limit below which a parameter makes the twin unphysical (module docstring, "Limits"),
-    #: -inf where none; the fit is bounded there too
+    #: limit below which a parameter makes the twin unphysical or the effect another than its name
+    #: (module docstring, "Limits"), -inf where none; the fit is bounded there too
     limits: tuple[float, ...] | None = None
     channels: tuple[str, ...] = ("torque",)  # residual channels the effect acts in
     #: size of a parameter vector in the unit people judge it by (module docstring), >= 0
@@ -245,8 +246,9 @@ def friction_refit(nom: ActuatorModel) -> Effect:
 
     Not a catalog entry (it nests viscous_friction, load_friction and preload_change and
     would explain any friction effect at the price of three parameters); the diagnosis
-    reports it beside the ranking as the unit's refitted friction law, within the same physical
-    limits (module docstring, "Limits": T_fc, B and G not below zero).
+    reports it beside the ranking as the unit's refitted friction law, within the physical limits
+    only (module docstring, "Limits": T_fc, B and G not below zero): a law may have less drag or load
+    friction than the twin, which the one-sided catalog effects do not name.
     """
     f = nom.friction
     return Effect("friction_refit", "T_fc, B and G of 004 eq. 9 refitted together",

@@ -515,7 +515,7 @@ def test_an_effect_that_does_not_shrink_the_held_out_gap_is_not_named(monkeypatc
     assert not any(f.drifting for f in r.fits) and r.verdict == "none"
 
 
-def test_a_foreign_healthy_unit_whose_best_effect_leaves_the_gap_is_none(tmp_path):
+def test_a_foreign_healthy_unit_whose_viscous_change_was_below_the_twins_is_none(tmp_path):
     """The case that prompted (c)'s second half, from the independently written foreign generator: a
     healthy unit recorded at 200 Hz (``full_g`` none_g003), on which a viscous change was significant
     against the twin within its tolerance and material (38 % +- 7 % of B), yet left the held-out gap no
@@ -575,13 +575,30 @@ def test_a_drag_smaller_than_the_twins_is_no_viscous_friction_and_a_larger_one_i
     f = NOM.friction
     sc, model = scorer(Augment(dB=-0.6 * f.viscous), seed=4, cycles=12)
     r = rank(sc, catalog(model))
-    assert "viscous_friction" not in [e.effect.name for e in r.selected]
+    assert r.verdict != "effect", [e.effect.name for e in r.selected]
     viscous = next(e for e in r.fits if e.effect.name == "viscous_friction")
     assert viscous.at_limit and not viscous.nameable
     sc, model = scorer(Augment(dB=1.0 * f.viscous), seed=4, cycles=12)
     r = rank(sc, catalog(model))
     assert r.verdict == "effect" and r.effect is not None and r.effect.effect.name == "viscous_friction"
     assert r.effect.size == pytest.approx(1.0, abs=max(4.0 * r.effect.size_std, 0.1))
+    # the drift test's refits of the halves leave the limit (a start on it stalled the solver there)
+    drift = r.effect.drift
+    assert drift is not None and min(drift.early, drift.late) > r.effect.floor, drift
+
+
+def test_a_material_fit_on_a_physical_limit_is_not_named():
+    """A preload relieved beyond the whole Coulomb friction (T_fc - 1.3 T_fc, no real drive has it): the
+    preload fit stops at dT = -T_fc (004 eq. 9 stays dissipative), material, on its limit, and is not
+    named; the report says why."""
+    f = NOM.friction
+    sc, model = scorer(Augment(dT_fs=-1.3 * f.coulomb, dT_fc=-1.3 * f.coulomb), seed=2, cycles=12)
+    r = rank(sc, catalog(model))
+    preload = next(e for e in r.fits if e.effect.name == "preload_change")
+    assert preload.theta[0] == pytest.approx(-f.coulomb, rel=1e-3)
+    assert preload.material and preload.at_limit and not preload.nameable
+    assert "physical limit" in effect_note(preload)
+    assert "preload_change" not in [e.effect.name for e in r.selected]
 
 
 
