@@ -145,6 +145,12 @@ class Effect:
         lo = np.maximum(_or_open(self.lower, self.k, -np.inf), _or_open(self.limits, self.k, -np.inf))
         return np.asarray(lo, dtype=float), np.asarray(_or_open(self.upper, self.k, np.inf), dtype=float)
 
+    @property
+    def one_sided(self) -> bool:
+        """Every limit is zero: the effect only grows by its definition (module docstring, "Limits"), so a
+        fit on its limit means the data want the opposite of what it names, not an unphysical twin."""
+        return self.limits is not None and all(lim == 0.0 for lim in self.limits)
+
     def at_limit(self, theta: np.ndarray) -> bool:
         """A parameter sits on its physical limit (within ``ON_BOUND`` of its scale): the data want more
         than the effect can physically give (module docstring, "Limits")."""
@@ -187,15 +193,15 @@ def build_catalog(nom: ActuatorModel, max_speed: float = 200.0, max_force: float
     d_max = max_force / c.stiffness  # clamp deflection at the largest force [m]
     s_grid = [max_speed * f for f in (0.02, 0.08, 0.3)]
     w_lo, w_hi = speed_range
+    # scales of dB and dG, and the one-sided frictions' starts (one scale inside their limit)
+    s_b, s_g = 0.1 * max(f.viscous, 1e-4), 0.1 * max(f.load_coefficient, 1e-6)
     effects = [
         Effect("viscous_friction", "lubricant viscous drag larger than modelled (004 reason 1)",
-               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (0.1 * max(f.viscous, 1e-4),),
-               ((0.1 * max(f.viscous, 1e-4),),), limits=(0.0,), size=lambda p: abs(p[0]) / f.viscous,
-               size_meaning="fraction of B",
+               ("dB",), ("N m s/rad",), lambda p: Augment(dB=p[0]), (s_b,), ((s_b,),), limits=(0.0,),
+               size=lambda p: abs(p[0]) / f.viscous, size_meaning="fraction of B",
                nominal=(("B", f.viscous),)),
         Effect("load_friction", "load-dependent friction larger than modelled (004 reasons 2, 5)",
-               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (0.1 * max(f.load_coefficient, 1e-6),),
-               ((0.1 * max(f.load_coefficient, 1e-6),),), limits=(0.0,),
+               ("dG",), ("N m/N",), lambda p: Augment(dG=p[0]), (s_g,), ((s_g,),), limits=(0.0,),
                size=lambda p: abs(p[0]) / f.load_coefficient, size_meaning="fraction of G",
                nominal=(("G", f.load_coefficient),)),
         Effect("efficiency_variation", "ball-screw efficiency changing with speed and load (004 reason 3)",

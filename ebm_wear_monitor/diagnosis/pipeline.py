@@ -299,11 +299,6 @@ def size_words(f: EffectFit, size: float, *, meaning: bool = True) -> str:
     return f"{percent} ({f.effect.size_meaning})" if meaning else percent
 
 
-def _floor_words(f: EffectFit) -> str:
-    """An effect's detectability floor (:mod:`.tolerance`) in the unit people read."""
-    return size_words(f, f.floor)
-
-
 def _nearest(ranking: Ranking) -> str:
     """For a ``none`` verdict: the best-ranked effect off its physical limits that passed one of the two
     tests an effect needs, significance (a) and materiality (b) of :mod:`.ranking`, or both and was still
@@ -321,8 +316,8 @@ def _nearest(ranking: Ranking) -> str:
                     "applications, over more speeds and forces, would decide it.")
         if significant and not f.material:
             return (f" Nearest, not named: {describe(f)}, significant ({test}) but not above its "
-                    f"detectability floor of {_floor_words(f)} with 95 % confidence: within what the twin's "
-                    "tolerance allows.")
+                    f"detectability floor of {size_words(f, f.floor)} with 95 % confidence: within what the "
+                    "twin's tolerance allows.")
         if significant:
             return (f" Nearest, not named: {describe(f)}, significant ({test}) and above its floor, but it "
                     "does not explain the recording (it leaves the held-out gap where the twin has it, or "

@@ -167,9 +167,8 @@ def effect_note(f: EffectFit) -> str:
     or zero for an effect that only grows (the data want the opposite of what it names)."""
     notes = ["drifts within the recording"] if f.drifting else []
     if f.at_limit:
-        one_sided = f.effect.limits is not None and not any(f.effect.limits)
-        notes.append("fit ended at zero: the data want the opposite of this effect (never named)" if one_sided
-                     else "fit ended on a physical limit (never named)")
+        notes.append("fit ended at zero: the data want the opposite of this effect (never named)"
+                     if f.effect.one_sided else "fit ended on a physical limit (never named)")
     return "; ".join(notes)
 
 
