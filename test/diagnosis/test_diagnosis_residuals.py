@@ -92,7 +92,9 @@ def test_force_channel_ignores_encoder_zero_and_tare(nom):
 
 
 def test_remembered_residuals_are_keyed_by_every_field_they_read(nom):
-    # ResidualModel remembers each channel's residual under its *_INPUTS fields: no other field may change it
+    # ResidualModel remembers each channel's residual under its *_INPUTS fields: no other field may change it,
+    # and every field listed there does change it (a field added to Augment but left out of the friction
+    # law or the clamp law would otherwise fit as nothing, silently)
     m = residual_model(synth(nom, cycles=4, noise=QUIET), nom)
     # every conditional branch on: Stribeck, direction asymmetry, sensor lag and skews
     start = Augment(stribeck_torque=0.01, stribeck_speed=2.0, reverse_dT_fc=1e-3, reverse_dG=1e-6,
@@ -100,9 +102,11 @@ def test_remembered_residuals_are_keyed_by_every_field_they_read(nom):
     torque, force = m.signal_residuals(start)["current"], m.force_model(start)  # neither is remembered
     for f in fields(Augment):
         aug = replace(start, **{f.name: getattr(start, f.name) * 1.1 + 1e-3})
-        if f.name not in TORQUE_INPUTS:
-            assert np.array_equal(m.signal_residuals(aug)["current"], torque), f.name
-        if f.name not in FORCE_INPUTS:
-            assert np.array_equal(m.force_model(aug), force), f.name
+        moved_torque = not np.array_equal(m.signal_residuals(aug)["current"], torque)
+        moved_force = not np.array_equal(m.force_model(aug), force)
+        # T_fs is read only by the band test at rest (stick.band_excess): the torque channel's blocks at rest
+        # take whatever friction balances the drive (residuals module docstring)
+        assert moved_torque == (f.name in TORQUE_INPUTS and f.name != "dT_fs"), f.name
+        assert moved_force == (f.name in FORCE_INPUTS), f.name
     r = m.torque_residual(NOMINAL)
     assert m.torque_residual(NOMINAL) is r and not r.flags.writeable
