@@ -86,19 +86,12 @@ class EffectFit:
 
 
 def size_gradient(effect: Effect, theta: np.ndarray) -> np.ndarray:
-    """d size / d theta by central differences (the size is a plain function of the parameters).
-
-    A size is often a magnitude, ``|p| / B``, with a kink where the parameter crosses zero (a
-    one-sided effect fitted on its limit). There the central difference is 0 and the delta method
-    would report the size as exact; at a kink (the one-sided differences of opposite sign) the
-    steeper one-sided slope is used instead, so the size's spread is the parameter's own."""
+    """d size / d theta by central differences (the size is a plain function of the parameters)."""
     grad = np.zeros(effect.k)
-    s0 = effect.size(theta)
     for i in range(effect.k):
         h = np.zeros(effect.k)
         h[i] = max(1e-6 * abs(theta[i]), 1e-9 * effect.scale[i] + 1e-300)
-        up, down = effect.size(theta + h) - s0, s0 - effect.size(theta - h)
-        grad[i] = (up + down) / (2.0 * h[i]) if up * down > 0.0 else max(abs(up), abs(down)) / h[i]
+        grad[i] = (effect.size(theta + h) - effect.size(theta - h)) / (2.0 * h[i])
     return grad
 
 
