@@ -108,5 +108,6 @@ def test_remembered_residuals_are_keyed_by_every_field_they_read(nom):
         # take whatever friction balances the drive (residuals module docstring)
         assert moved_torque == (f.name in TORQUE_INPUTS and f.name != "dT_fs"), f.name
         assert moved_force == (f.name in FORCE_INPUTS), f.name
+        assert moved_torque or moved_force or f.name == "dT_fs", f.name  # no field that nothing reads
     r = m.torque_residual(NOMINAL)
     assert m.torque_residual(NOMINAL) is r and not r.flags.writeable
