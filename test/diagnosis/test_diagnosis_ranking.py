@@ -12,7 +12,7 @@ import pytest
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
-from ebm_wear_monitor.diagnosis.heldout import improvement_p
+from ebm_wear_monitor.diagnosis.heldout import direction_p, improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, rank
 from ebm_wear_monitor.diagnosis.ranking.criteria import DRIFT_ALPHA, trend_p
@@ -299,6 +299,25 @@ def test_improvement_p_is_conservative_without_effect_and_small_with_one():
     assert np.mean(np.array(p_null) < 0.05) <= 0.05
     noise = rng.normal(size=400)
     assert improvement_p(noise + 3.0 * delta, noise) < 1e-6
+
+
+def test_direction_p_holds_its_level_and_doubles_the_separation():
+    """Under "no effect" the direction test's p-value is uniform (its level is the nominal one, where the
+    improvement test's falls far below it); with the effect present and fitted right, V = U + |delta| / 2
+    (heldout.direction_p), so the direction test's p-value is never larger and, for a correction the
+    improvement test barely misses, far smaller."""
+    rng = np.random.default_rng(11)
+    delta = 0.2687 * np.sin(np.linspace(0, 20, 400))  # |delta| = 3.8, a fixed correction "fitted elsewhere"
+    p_v = np.array([direction_p(z, z - delta) for z in rng.normal(size=(4000, 400))])
+    p_u = np.array([improvement_p(z, z - delta) for z in rng.normal(size=(4000, 400))])
+    for level in (0.05, 0.2, 0.5):  # uniform: binomial sd of the rate at 4000 draws <= 0.008
+        assert abs(np.mean(p_v < level) - level) < 4.0 * np.sqrt(level * (1.0 - level) / 4000)
+    assert np.mean(p_u < 0.05) < 0.002  # N(-1.9, 1) against N(0, 1): about 2e-4
+    present = [(direction_p(n + delta, n), improvement_p(n + delta, n)) for n in rng.normal(size=(2000, 400))]
+    pv, pu = np.array(present).T
+    assert np.all(pv <= pu)
+    # at nominal 0.05 / 8: V ~ N(3.8, 1) passes about 90 % of the time, U ~ N(1.9, 1) about 27 %
+    assert np.mean(pv < 0.05 / 8) > 0.85 and np.mean(pu < 0.05 / 8) < 0.35
 
 
 def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():

@@ -11,7 +11,7 @@ import numpy as np
 
 from ebm_wear_monitor.diagnosis import heldout, tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect, combine
-from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, direction_p, improvement_p
 from ebm_wear_monitor.diagnosis.ranking.scorer import NUISANCE_ONLY, Fit, Model, Scorer, fit, merge_augment
 from ebm_wear_monitor.diagnosis.residuals import CHANNELS, NOMINAL, Augment
 from ebm_wear_monitor.schema.diagnose import Drift, Parameter, RankingEntry, Size
@@ -30,7 +30,7 @@ class EffectFit:
     shrink: float  # share of the held-out gap it closes, 1 - gap_after / gap_before
     d_cycles: np.ndarray  # held-out S_before,c - S_after,c per cycle
     z_heldout: np.ndarray  # held-out normalised residual with the effect
-    p_value: float = 1.0  # one-sided test of a held-out improvement (:func:`..heldout.improvement_p`)
+    p_value: float = 1.0  # one-sided held-out test (a) (:func:`evaluate`, :func:`addition_p`)
     size: float = 0.0  # size in the effect's own unit (:mod:`..catalog`)
     size_std: float = 0.0
     floor: float = 0.0  # detectability floor of the size (:mod:`..tolerance`)
@@ -142,11 +142,13 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     """Fit ``effect`` (unless ``fitted`` is given) and compute its held-out gap, score, test and size
     against its floor.
 
-    ``tested=False`` skips the test against the twin within its tolerance (a fit of W_E,
-    :func:`base_without_own`; ``p_value`` stays 1): an effect added in the forward selection is tested
-    against the effects it extends instead (:func:`.selection._addition`), which sets ``p_value``, and the
-    first
-    noise pass (:func:`.verdict.ranked_fits`) needs only the order.
+    The test against the twin within its tolerance (a fit of W_E, :func:`base_without_own`) is the
+    direction test :func:`..heldout.direction_p`, or the improvement test :func:`..heldout.improvement_p`
+    for a size the sampling could have made (:func:`sampling_caution`): the direction test's added power
+    goes only to sizes that stay above their floor whatever the unresolved transients do (package
+    docstring, test (a)).  ``tested=False`` skips it (``p_value`` stays 1): an effect added in the forward
+    selection is tested against the effects it extends instead (:func:`.selection._addition`), which sets
+    ``p_value``, and the first noise pass (:func:`.verdict.ranked_fits`) needs only the order.
     """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
@@ -156,12 +158,13 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     shrink = float(1.0 - gap / gap_before) if gap_before > 0.0 else 0.0
     z_after = sc.z(f.model, sc.split.heldout)
     ef = EffectFit(effect, f.theta, f.stderr, f.model, gap, score, shrink, d, z_after)
-    if tested:
-        ef.p_value = improvement_p(sc.z(base_without_own(sc, effect), sc.split.heldout), z_after)
     ef.size = float(effect.size(f.theta))
     ef.size_std = delta_method_std(effect, f.theta, f.stderr)
     ef.sampling = sampling_bound(effect, f)
     ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
+    if tested:
+        zb = sc.z(base_without_own(sc, effect), sc.split.heldout)
+        ef.p_value = (improvement_p if sampling_caution(ef) else direction_p)(zb, z_after)
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef
