@@ -62,9 +62,10 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     lowers the held-out sum of squares by more than 2 k).  Until 2026-11-29 the statistic was
     U = (S_before - S_after) / (2 |delta|) = V - |delta| / 2, with S_before - S_after =
     2 sum(z delta) - sum(delta^2): N(-|delta| / 2, 1) under "absent", so compared with N(0, 1) its
-    level fell far below 0.05 / K as |delta| grew, and a foreign viscous drag of +98 % of B whose
+    level fell far below 0.05 / K as |delta| grew: a foreign viscous drag of +98 % of B whose
     correction held out exactly what its calibration fit predicted (U = 1.89 against
-    |delta| / 2 = 1.90, ``full_t`` viscous_friction.power.0) read ``none``.  A size the sampling
+    |delta| / 2 = 1.90, ``full_t`` viscous_friction.power.0, 200 Hz) read ``none`` (and still does:
+    its size is sampling-cautioned, below).  A size the sampling
     could have made (:func:`.effect_fit.sampling_caution`) keeps U: V alone named healthy
     recordings of the reference simulator at 500 Hz a Stribeck fall (in-world false positives
     2 -> 4 of 64), both added ones cautioned; README "The held-out test's statistic".
