@@ -311,7 +311,7 @@ def _nearest(ranking: Ranking) -> str:
         significant = f.significant(ranking.alpha)
         test = f"p = {f.p_value:.2g} against the level {ranking.alpha:.2g}"
         if f.material and not significant and f.significant(ALPHA):
-            return (f" Nearest, not named: {describe(f)}, above its floor but its held-out improvement is "
+            return (f" Nearest, not named: {describe(f)}, above its floor but its held-out test is "
                     f"not significant once {len(ranking.fits)} effects are tried ({test}); more "
                     "applications, over more speeds and forces, would decide it.")
         if significant and not f.material:

@@ -105,7 +105,10 @@ class RankingEntry(Record):
                                 json="gap_after")
     shrink: float = quantity("-", "share of the held-out gap it closes, 1 - gap_after / gap_before",
                              json="shrink")
-    p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
+    p_value: float = quantity("-", "one-sided p-value of the held-out test (a): the held-out residual "
+                               "along the effect's correction, or the held-out improvement for a "
+                               "sampling-cautioned size",
+                               json="p_value")
     k: int = quantity("-", "number of fitted parameters", json="k")
     material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
     at_limit: bool = quantity("", "a parameter ended on its limit: a physical one (a dissipation or the "
@@ -327,7 +330,10 @@ class LifeFit(Record):
     parameters: list[float] = quantity(GIVEN, "fitted parameters (diagnosis/life.py's table)",
                                        json="parameters")
     score: float = quantity("-", "(S_before - S_after - 2k) / S_before on held-out summaries", json="score")
-    p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
+    p_value: float = quantity("-", "one-sided p-value of the held-out test (a): the held-out residual "
+                               "along the effect's correction, or the held-out improvement for a "
+                               "sampling-cautioned size",
+                               json="p_value")
 
 
 @dataclass(frozen=True)

@@ -53,7 +53,8 @@ with S the held-out sum of z^2 and k the effect's parameter count.
 
 (a) statistical: the held-out improvement over W_E, the twin within its tolerance with the
     effect's own budget entries held at zero (the model the effect extends: a nested
-    comparison, :func:`.effect_fit.base_without_own`), is significant.  The correction an effect
+    comparison, :func:`.effect_fit.base_without_own`), is significant, tested by the held-out
+    residual's component along the correction.  The correction an effect
     makes, delta = z_before - z_after on the held-out rows, is fixed by the calibration
     cycles; with held-out noise z ~ N(0, 1) independent of it, V = sum(z delta) / |delta| is
     standard normal when the effect is absent and N(|delta|, 1) when it is present and fitted
@@ -71,7 +72,11 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     2 -> 4 of 64), both added ones cautioned; README "The held-out test's statistic".
     Additions keep U too (:func:`.effect_fit.addition_p`): the model an addition extends
     carries the first effect's form error, structure rather than noise, and V there named
-    passengers (three on ``full_t``).  (A goodness-of-fit test of
+    passengers (three on ``full_t``); a pair fitted jointly (no sampling bound) takes V.  V is
+    exact only for independent held-out rows of unit variance: rows of one cycle share model error
+    and the measured noise scale is the smaller of two estimates, both of which make V liberal,
+    and U's offset of -|delta| / 2 had absorbed that; a cluster-robust variance of V over the
+    held-out cycles is not yet used (README, "The held-out test's statistic").  (A goodness-of-fit test of
     the before model where the effect acts was tried as a second guard: against the twin
     within its tolerance it rejected a +100 % viscous change on the twin's own data; the
     practical test (b) is the guard against significant but immaterial structure.  Weighted Bonferroni

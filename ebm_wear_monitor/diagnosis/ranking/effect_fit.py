@@ -58,7 +58,8 @@ class EffectFit:
         return self.size - MATERIAL_Z * self.size_std > self.floor
 
     def significant(self, level: float) -> bool:
-        """Test (a) of the package docstring at ``level``: its held-out improvement is significant and its
+        """Test (a) of the package docstring at ``level``: its held-out test (:func:`evaluate`: the direction
+        test, or the improvement test for a sampling-cautioned size and an addition) is significant and its
         held-out score positive."""
         return self.p_value < level and self.score > 0.0
 
@@ -144,11 +145,12 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
 
     The test against the twin within its tolerance (a fit of W_E, :func:`base_without_own`) is the
     direction test :func:`..heldout.direction_p`, or the improvement test :func:`..heldout.improvement_p`
-    for a size the sampling could have made (:func:`sampling_caution`): the direction test's added power
-    goes only to sizes that stay above their floor whatever the unresolved transients do (package
-    docstring, test (a)).  ``tested=False`` skips it (``p_value`` stays 1): an effect added in the forward
-    selection is tested against the effects it extends instead (:func:`.selection._addition`), which sets
-    ``p_value``, and the first noise pass (:func:`.verdict.ranked_fits`) needs only the order.
+    for a material size the sampling could have made (:func:`sampling_caution`; package docstring, test
+    (a)).  A fit without a sampling bound (a pair fitted jointly, the friction refit) and a size not
+    material (which (b) does not name) take the direction test.  ``tested=False`` skips it (``p_value``
+    stays 1): an effect added in the forward selection is tested against the effects it extends instead
+    (:func:`.selection._addition`), which sets ``p_value``, and the first noise pass
+    (:func:`.verdict.ranked_fits`) needs only the order.
     """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
