@@ -24,6 +24,12 @@ def exceeds(size: float, std: float, floor: float, dof: int | None = None) -> bo
     return size - q * std > floor
 
 
+def _correction(z_before: np.ndarray, z_after: np.ndarray) -> tuple[np.ndarray, float]:
+    """The held-out correction delta = z_before - z_after and its norm |delta|."""
+    delta = z_before - z_after
+    return delta, float(np.sqrt(np.sum(delta * delta)))
+
+
 def improvement_u(z_before: np.ndarray, z_after: np.ndarray) -> float | None:
     """The statistic U of the held-out comparison of two fitted corrections (None when they agree).
 
@@ -31,8 +37,7 @@ def improvement_u(z_before: np.ndarray, z_after: np.ndarray) -> float | None:
     S_before - S_after = 2 sum(z delta) - sum(delta^2) ~ N(-sum(delta^2), 4 sum(delta^2)) when
     the correction is absent; U = (S_before - S_after) / (2 sqrt(sum(delta^2))) is compared with N(0, 1).
     """
-    delta = z_before - z_after
-    norm = float(np.sqrt(np.sum(delta * delta)))
+    _, norm = _correction(z_before, z_after)
     if norm == 0.0:
         return None
     return float(np.sum(z_before**2 - z_after**2)) / (2.0 * norm)
@@ -54,8 +59,7 @@ def direction_p(z_before: np.ndarray, z_after: np.ndarray) -> float:
     mean at -|delta| / 2 under "absent" and only |delta| / 2 under "present", half V's separation; the
     p-value of U against N(0, 1) is valid but its level falls far below the nominal one as |delta| grows
     (|delta| = 3.8, nominal 0.05 / 8: 5e-6).  1 when the correction changes nothing."""
-    delta = z_before - z_after
-    norm = float(np.sqrt(np.sum(delta * delta)))
+    delta, norm = _correction(z_before, z_after)
     if norm == 0.0:
         return 1.0
     return float(stats.norm.sf(float(np.sum(z_before * delta)) / norm))

@@ -330,10 +330,7 @@ class LifeFit(Record):
     parameters: list[float] = quantity(GIVEN, "fitted parameters (diagnosis/life.py's table)",
                                        json="parameters")
     score: float = quantity("-", "(S_before - S_after - 2k) / S_before on held-out summaries", json="score")
-    p_value: float = quantity("-", "one-sided p-value of the held-out test (a): the held-out residual "
-                               "along the effect's correction, or the held-out improvement for a "
-                               "sampling-cautioned size",
-                               json="p_value")
+    p_value: float = quantity("-", "one-sided p-value of the held-out improvement", json="p_value")
 
 
 @dataclass(frozen=True)

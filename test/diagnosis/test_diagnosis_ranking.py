@@ -304,8 +304,8 @@ def test_improvement_p_is_conservative_without_effect_and_small_with_one():
 def test_direction_p_holds_its_level_and_doubles_the_separation():
     """Under "no effect" the direction test's p-value is uniform (its level is the nominal one, where the
     improvement test's falls far below it); with the effect present and fitted right, V = U + |delta| / 2
-    (heldout.direction_p), so the direction test's p-value is never larger and, for a correction the
-    improvement test barely misses, far smaller."""
+    (heldout.direction_p), so a correction the improvement test mostly misses the direction test mostly
+    finds."""
     rng = np.random.default_rng(11)
     delta = 0.2687 * np.sin(np.linspace(0, 20, 400))  # |delta| = 3.8, a fixed correction "fitted elsewhere"
     p_v = np.array([direction_p(z, z - delta) for z in rng.normal(size=(4000, 400))])
@@ -315,7 +315,6 @@ def test_direction_p_holds_its_level_and_doubles_the_separation():
     assert np.mean(p_u < 0.05) < 0.002  # N(-1.9, 1) against N(0, 1): about 2e-4
     present = [(direction_p(n + delta, n), improvement_p(n + delta, n)) for n in rng.normal(size=(2000, 400))]
     pv, pu = np.array(present).T
-    assert np.all(pv <= pu)
     # at nominal 0.05 / 8: V ~ N(3.8, 1) passes about 90 % of the time, U ~ N(1.9, 1) about 27 %
     assert np.mean(pv < 0.05 / 8) > 0.85 and np.mean(pu < 0.05 / 8) < 0.35
 
