@@ -165,11 +165,19 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     ef.sampling = sampling_bound(effect, f)
     ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
     if tested:
-        zb = sc.z(base_without_own(sc, effect), sc.split.heldout)
-        ef.p_value = (improvement_p if sampling_caution(ef) else direction_p)(zb, z_after)
+        ef.p_value = against_tolerance_p(ef, sc.z(base_without_own(sc, effect), sc.split.heldout))
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef
+
+
+def against_tolerance_p(ef: EffectFit, z_before: np.ndarray) -> float:
+    """Test (a) of ``ef`` against the twin within its tolerance W_E, whose held-out normalised residual is
+    ``z_before`` (:func:`base_without_own`): the improvement test :func:`..heldout.improvement_p` for a
+    material size the sampling could have made (:func:`sampling_caution`; its statistic U = V - |delta| / 2
+    asks more of the correction than that the held-out residual lies along it), the direction test
+    :func:`..heldout.direction_p` otherwise."""
+    return (improvement_p if sampling_caution(ef) else direction_p)(z_before, ef.z_heldout)
 
 
 def extend(sc: Scorer, first: EffectFit, second: Effect, s_before: np.ndarray,
