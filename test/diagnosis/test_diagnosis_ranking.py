@@ -13,9 +13,9 @@ from scipy import stats
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
-from ebm_wear_monitor.diagnosis.heldout import direction_p, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, direction_p, improvement_p
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
-from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, rank
+from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, effect_fit, rank
 from ebm_wear_monitor.diagnosis.ranking.criteria import DRIFT_ALPHA, trend_p
 from ebm_wear_monitor.diagnosis.ranking.effect_fit import (
     against_tolerance_p,
@@ -735,20 +735,22 @@ def test_a_real_refit_with_the_worst_signs_moves_the_size_by_the_sampling_bound(
     assert sizes[1] - sizes[0] == pytest.approx(bound, rel=0.05)
 
 
-def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_any_other_by_the_direction():
+def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_any_other_by_the_direction(
+        monkeypatch):
     """evaluate()'s test (a) against W_E, on a material drag (B + 3e-3 N m s/rad, 1.7 B) fitted for real on a
     250 Hz closed-form recording.  Its p-value is the direction test's unless its worst-case sampling change
     exceeds its margin over the floor (size - 1.645 std - floor), then the improvement test's; with the drag
-    present and fitted right the direction test is the stronger (V = U + |delta| / 2), so the caution costs
-    significance."""
+    present the direction test is the stronger (V = U + |delta| / 2), so the caution costs significance."""
     sc, model = scorer(Augment(dB=3e-3), seed=1, rate=250.0)
     effect = catalog(model)["viscous_friction"]
-    ef = evaluate(sc, effect, nominal_sse(sc), sc.gap(Model(sc.base.aug)))
+    before = (nominal_sse(sc), sc.gap(Model(sc.base.aug)))
+    ef = evaluate(sc, effect, *before)
     zb = sc.z(base_without_own(sc, effect), sc.split.heldout)
-    margin = ef.size - 1.6448536269514722 * ef.size_std - ef.floor
-    assert ef.material and margin > 0.0 and ef.sampling is not None
-    expected = improvement_p if ef.sampling > margin else direction_p
-    assert ef.p_value == expected(zb, ef.z_heldout)
+    margin = ef.size - MATERIAL_Z * ef.size_std - ef.floor
+    assert ef.material and 0.0 < ef.sampling < margin  # this fit is not cautioned: evaluate() took V
+    assert ef.p_value == direction_p(zb, ef.z_heldout)
+    monkeypatch.setattr(effect_fit, "sampling_bound", lambda *_: 1.01 * margin)  # the same fit, cautioned
+    assert evaluate(sc, effect, *before).p_value == improvement_p(zb, ef.z_heldout)
     cautioned = dataclasses.replace(ef, sampling=1.01 * margin)
     free = dataclasses.replace(ef, sampling=0.99 * margin)
     assert sampling_caution(cautioned) and not sampling_caution(free)
@@ -758,5 +760,6 @@ def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_an
     assert p_v < p_u < 1e-3
     half = 0.5 * np.linalg.norm(zb - ef.z_heldout)  # V - U = |delta| / 2 in the normal quantiles
     assert stats.norm.isf(p_v) - stats.norm.isf(p_u) == pytest.approx(half, rel=1e-6)
-    not_material = dataclasses.replace(ef, size=ef.floor, sampling=10.0 * ef.size)  # no margin to lose
-    assert against_tolerance_p(not_material, zb) == direction_p(zb, ef.z_heldout)
+    for unbounded in (dataclasses.replace(ef, sampling=None),  # no sampling bound (a pair, an extension)
+                      dataclasses.replace(ef, size=ef.floor, sampling=10.0 * ef.size)):  # no margin to lose
+        assert against_tolerance_p(unbounded, zb) == direction_p(zb, ef.z_heldout)
