@@ -107,7 +107,7 @@ class RankingEntry(Record):
                              json="shrink")
     p_value: float = quantity("-", "one-sided p-value of the held-out test (a): the held-out residual "
                                "along the effect's correction, or the held-out improvement for a "
-                               "sampling-cautioned size",
+                               "sampling-cautioned size and for an effect added to others",
                                json="p_value")
     k: int = quantity("-", "number of fitted parameters", json="k")
     material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
