@@ -195,7 +195,7 @@ def summary(ranking: Ranking) -> str:
         alike = "".join(_look_alike(ranking, f) for f in ranking.selected if f.effect.look_alike)
         return (f"{'; '.join(parts)}. Adding {'them' if len(parts) > 1 else 'it'} to the twin closes "
                 f"{100.0 * joint.shrink:.0f} % of the {gap}{_material_closed(ranking, joint)}.{alike}"
-                f"{_sampling_words(ranking)}")
+                f"{_sampling_words(ranking)}{_independence_words(ranking)}")
     o = ranking.open_set
     if o is not None and o.decided:
         torque = (f"a torque that depends on where the screw is ({1e3 * o.periodic.rms:.0f} ± "
@@ -288,6 +288,20 @@ def _sampling_words(ranking: Ranking) -> str:
     return (" Caution: at the worst, transients the sampling does not resolve (current steps, speed changes "
             f"between samples) could move {' and '.join(words)}, enough to take {it} under {its} "
             "detectability floor (README, \"The sampling's share of a size\").")
+
+
+def _independence_words(ranking: Ranking) -> str:
+    """For a named effect, as fitted alone, whose held-out test passes only with independent held-out rows
+    (``p_cycles`` at or above the level: :func:`.report.effect_note`), that caution in plain words."""
+    alone = {f.effect.name: f for f in ranking.fits}
+    words = [f"the {f.effect.name.replace('_', ' ')} (p = {f.p_cycles:.2g})" for f in
+             (alone.get(g.effect.name) for g in ranking.selected)
+             if f is not None and f.p_cycles is not None and f.p_value < ranking.alpha <= f.p_cycles]
+    if not words:
+        return ""
+    return (f" Caution: with the scatter of the brake applications themselves rather than of independent "
+            f"samples, the held-out test of {' and '.join(words)} is not significant at the level "
+            f"{ranking.alpha:.2g} (README, \"The held-out test's statistic\").")
 
 
 def size_words(f: EffectFit, size: float, *, meaning: bool = True) -> str:

@@ -162,10 +162,15 @@ NUISANCE_WORDS = {
 }
 
 
-def effect_note(f: EffectFit) -> str:
+def effect_note(f: EffectFit, alpha: float = 0.0) -> str:
     """Why a fit that looks large is not named, in words: it drifts, or it ended on a limit: a physical one,
-    or zero for an effect that only grows (the data want the opposite of what it names)."""
+    or zero for an effect that only grows (the data want the opposite of what it names).  And when its
+    held-out test passes at ``alpha`` only with independent rows (``p_cycles`` at or above ``alpha``):
+    its evidence rests on that assumption."""
     notes = ["drifts within the recording"] if f.drifting else []
+    if f.p_cycles is not None and f.p_value < alpha <= f.p_cycles:
+        notes.append(f"significant only if the held-out samples are independent: with the brake "
+                     f"applications' own scatter p = {f.p_cycles:.2g}")
     if f.at_limit:
         notes.append("fit ended at zero: the data want the opposite of this effect (never named)"
                      if f.effect.one_sided else "fit ended on a physical limit (never named)")
@@ -180,7 +185,8 @@ def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
                 "floor": size_words(f, f.floor, meaning=False),
                 "material": "yes" if f.material else "no",
                 "sampling": "—" if f.sampling is None else f"± {size_words(f, f.sampling, meaning=False)}",
-                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %", "note": effect_note(f)}
+                "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %",
+                "note": effect_note(f, ranking.alpha)}
                for f in ranking.fits]
     nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
                  for k, v in res.nuisances.items()]

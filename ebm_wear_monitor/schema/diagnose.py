@@ -109,6 +109,10 @@ class RankingEntry(Record):
                                "along the effect's correction, or the held-out improvement for a "
                                "sampling-cautioned size and for an effect added to others",
                                json="p_value")
+    p_value_cycles: float | None = quantity(
+        "-", "the same test with its statistic scaled by the larger of its independent-row scale and the "
+        "cluster-robust one over the held-out brake cycles (rows of one application share model error): "
+        "reported, not judged; null for an effect added to others", json="p_value_cycles")
     k: int = quantity("-", "number of fitted parameters", json="k")
     material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
     at_limit: bool = quantity("", "a parameter ended on its limit: a physical one (a dissipation or the "

@@ -10,9 +10,11 @@ diagnosed blind and named a viscous drag below the twin's until the catalog's vi
 one-sided.
 """
 
+import dataclasses
+
 import pytest
 
-from ebm_wear_monitor.diagnosis.pipeline import analyse, cautioned
+from ebm_wear_monitor.diagnosis.pipeline import analyse, cautioned, summary
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.reference_sim import simulate_reference
 from ebm_wear_monitor.errors import InputError
@@ -69,6 +71,12 @@ def test_independent_integration_effect_is_found(unit):
     _, ranking = analyse(rec, unit)
     assert ranking.verdict == "effect" and ranking.top.effect.name == "load_friction"
     assert cautioned(ranking) == []  # a true effect at 1 kHz: no sampling caution (README)
+    # nor does its significance rest on independent held-out samples: it holds over the applications' own
+    # scatter, and the summary says so only when it does not
+    assert ranking.top.p_cycles is not None and ranking.top.p_cycles < ranking.alpha
+    assert "independent samples" not in summary(ranking)
+    fits = [dataclasses.replace(f, p_cycles=0.5) if f is ranking.top else f for f in ranking.fits]
+    assert "load friction (p = 0.5) is not significant" in summary(dataclasses.replace(ranking, fits=fits))
     # the reference's friction is regularised (tanh) near zero speed, where the twin's is switched:
     # within three standard errors or 15 % of the injected change
     dG, se = ranking.top.theta[0], ranking.top.stderr[0]

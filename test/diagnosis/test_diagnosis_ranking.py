@@ -13,7 +13,7 @@ from scipy import stats
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
-from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, direction_p, improvement_p
+from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, direction_p, improvement_p, improvement_u
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, effect_fit, rank
 from ebm_wear_monitor.diagnosis.ranking.criteria import DRIFT_ALPHA, trend_p
@@ -326,6 +326,50 @@ def test_direction_p_holds_its_level_and_doubles_the_separation():
     pv, pu = np.array(present).T
     # at nominal 0.05 / 8: V ~ N(3.8, 1) passes about 90 % of the time, U ~ N(1.9, 1) about 27 %
     assert np.mean(pv < 0.05 / 8) > 0.85 and np.mean(pu < 0.05 / 8) < 0.35
+
+
+def test_the_cycles_scale_keeps_the_level_under_shared_cycle_error_at_little_cost_in_power():
+    """Held-out rows of one cycle sharing model error along the correction (b_c ~ N(0, tau^2) per cycle,
+    10 cycles of 40 rows): with independent rows' scale |delta| the direction test rejects "no effect" at
+    many times its level; the cluster-robust scale (heldout._correction) brings it down to about 2.5 times
+    (the normal reference over 10 cycles is still liberal, a known limit), and with independent noise it
+    keeps most of the power of the independent-row test."""
+    rng = np.random.default_rng(5)
+    cycles = np.repeat(np.arange(10), 40)
+    shape = np.tile(np.sin(np.linspace(0.0, 3.0, 40)), 10)
+    delta = 4.0 * shape / np.linalg.norm(shape)  # |delta| = 4: V ~ N(4, 1) when present
+    level, n = 0.05 / 8, 3000
+
+    def rates(tau: float, present: bool) -> tuple[float, float]:
+        hits = np.zeros(2)
+        for _ in range(n):
+            e = rng.normal(size=400) + tau * rng.normal(size=10)[cycles] * shape
+            zb, za = (e + delta, e) if present else (e, e - delta)
+            hits += (direction_p(zb, za) < level, direction_p(zb, za, cycles) < level)
+        return hits[0] / n, hits[1] / n
+
+    iid, clustered = rates(0.6, present=False)
+    assert iid > 15 * level and clustered < 4 * level  # about 31 and 2.5 times the level
+    iid, clustered = rates(0.0, present=False)
+    assert clustered <= iid + 3 * np.sqrt(level / n)  # never above the independent-row test's rate
+    iid, clustered = rates(0.0, present=True)
+    assert iid > 0.88 and clustered > 0.9 * iid  # N(4, 1) at 2.5: 93 %; the cycles' scale about 89 %
+    # V - U = |delta|^2 / (2 scale) with the floor binding (scale = |delta| = 4) and not (a shared error)
+    for za in (np.zeros(400), rng.normal(size=400) + 2.0 * rng.normal(size=10)[cycles] * shape):
+        scale = max(4.0, np.sqrt(np.sum(np.bincount(cycles, weights=za * delta) ** 2)))
+        u, v = improvement_u(za + delta, za, cycles), stats.norm.isf(direction_p(za + delta, za, cycles))
+        assert v - u == pytest.approx(8.0 / scale, rel=1e-9)
+        assert u == pytest.approx(improvement_u(za + delta, za) * 4.0 / scale, rel=1e-9)
+    assert scale > 6.0  # the second case: the cycles' scale, not the floor
+    # the floor: residual exactly along delta with nothing after it is V = |delta| with or without cycles
+    assert direction_p(delta, 0.0 * delta, cycles) == direction_p(delta, 0.0 * delta) == stats.norm.sf(4.0)
+    # only which rows share a cycle counts, not the labels
+    za = rng.normal(size=400) + rng.normal(size=10)[cycles] * shape
+    assert direction_p(za + delta, za, 7 * cycles + 3) == direction_p(za + delta, za, cycles)
+    named = np.array([f"c{c}" for c in cycles])
+    assert direction_p(za + delta, za, named) == direction_p(za + delta, za, cycles)
+    with pytest.raises(ValueError, match="cycle labels"):
+        direction_p(za + delta, za, cycles[1:])
 
 
 def test_nested_extension_keeps_the_first_effect_and_recovers_the_second():
@@ -740,7 +784,8 @@ def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_an
     """evaluate()'s test (a) against W_E, on a material drag (B + 3e-3 N m s/rad, 1.7 B) fitted for real on a
     250 Hz closed-form recording.  Its p-value is the direction test's unless its worst-case sampling change
     exceeds its margin over the floor (size - 1.645 std - floor), then the improvement test's; with the drag
-    present the direction test is the stronger (V = U + |delta| / 2), so the caution costs significance."""
+    present the direction test is the stronger (V = U + |delta|^2 / (2 scale)), so the caution costs
+    significance."""
     sc, model = scorer(Augment(dB=3e-3), seed=1, rate=250.0)
     effect = catalog(model)["viscous_friction"]
     before = (nominal_sse(sc), sc.gap(Model(sc.base.aug)))
@@ -748,9 +793,40 @@ def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_an
     zb = sc.z(base_without_own(sc, effect), sc.split.heldout)
     margin = ef.size - MATERIAL_Z * ef.size_std - ef.floor
     assert ef.material and 0.0 < ef.sampling < margin  # this fit is not cautioned: evaluate() took V
+    cycles = sc.row_cycles(sc.split.heldout)  # p_cycles: the same test scaled over the held-out cycles
     assert ef.p_value == direction_p(zb, ef.z_heldout)
+    assert ef.p_cycles == direction_p(zb, ef.z_heldout, cycles)
+    entry = ef.entry()
+    assert (entry.p_value, entry.p_value_cycles) == (ef.p_value, ef.p_cycles)
+    seen: list[np.ndarray | None] = []  # the cycle labels evaluate() hands the test, row by row
+
+    def spy(z_before: np.ndarray, z_after: np.ndarray, clusters: np.ndarray | None = None) -> float:
+        seen.append(clusters)
+        return direction_p(z_before, z_after, clusters)
+
+    monkeypatch.setattr(effect_fit, "direction_p", spy)
+    evaluate(sc, effect, *before)
+    assert len(seen) == 2 and seen[0] is None and seen[1] is not None
+    assert np.array_equal(seen[1], cycles) and seen[1].size == zb.size
+    # each held-out row's label is its block's cycle: z_raw's rows are rows() of all rows (torque then
+    # force, every block), and so are the labels, whatever the order the channels are named in
+    h, every = sc.split.heldout, np.tile(sc.model.blocks.cycle, 2)
+    assert np.array_equal(sc.z_raw(sc.base.aug, h), sc.z_all(sc.base.aug)[sc.rows(h)])
+    for order in (("torque", "force"), ("force", "torque")):
+        assert np.array_equal(sc.row_cycles(h, order), every[sc.rows(h, order)])
+        assert np.array_equal(sc.row_cycles(h, order), cycles)
+    monkeypatch.setattr(effect_fit, "direction_p", direction_p)
     monkeypatch.setattr(effect_fit, "sampling_bound", lambda *_: 1.01 * margin)  # the same fit, cautioned
-    assert evaluate(sc, effect, *before).p_value == improvement_p(zb, ef.z_heldout)
+    cautioned_fit = evaluate(sc, effect, *before)
+    assert cautioned_fit.p_value == improvement_p(zb, ef.z_heldout)
+    assert cautioned_fit.p_cycles == improvement_p(zb, ef.z_heldout, cycles)
+    assert evaluate(sc, effect, *before, tested=False).p_cycles is None  # an addition: not computed
+    # the report says when a pass at the level rests on independent rows, and only then
+    rests = effect_note(dataclasses.replace(ef, p_value=1e-4, p_cycles=0.02), 0.05 / 8)
+    assert "independent" in rests and "p = 0.02" in rests
+    for p_value, p_cycles in ((1e-4, 1e-3), (0.01, 0.02), (1e-4, None)):
+        assert "independent" not in effect_note(dataclasses.replace(ef, p_value=p_value, p_cycles=p_cycles),
+                                                0.05 / 8)
     cautioned = dataclasses.replace(ef, sampling=1.01 * margin)
     free = dataclasses.replace(ef, sampling=0.99 * margin)
     assert sampling_caution(cautioned) and not sampling_caution(free)

@@ -31,6 +31,9 @@ class EffectFit:
     d_cycles: np.ndarray  # held-out S_before,c - S_after,c per cycle
     z_heldout: np.ndarray  # held-out normalised residual with the effect
     p_value: float = 1.0  # one-sided held-out test (a) (:func:`evaluate`, :func:`addition_p`)
+    #: test (a) with the cluster-robust scale over the held-out cycles (:func:`evaluate`; reported, not
+    #: judged; None: not computed, an effect added to others)
+    p_cycles: float | None = None
     size: float = 0.0  # size in the effect's own unit (:mod:`..catalog`)
     size_std: float = 0.0
     floor: float = 0.0  # detectability floor of the size (:mod:`..tolerance`)
@@ -79,7 +82,8 @@ class EffectFit:
         e = self.effect
         return RankingEntry(
             effect=e.name, score=self.score, gap_after=self.gap_after, shrink=self.shrink,
-            p_value=self.p_value, k=e.k, material=self.material, at_limit=self.at_limit, drift=self.drift,
+            p_value=self.p_value, p_value_cycles=self.p_cycles, k=e.k, material=self.material,
+            at_limit=self.at_limit, drift=self.drift,
             size=Size(self.size, self.size_std, e.size_unit, e.size_meaning, self.floor, self.sampling),
             magnitude=e.magnitude(self.theta, self.stderr),
             parameters={p: Parameter(float(v), float(s), u)
@@ -147,10 +151,12 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     direction test :func:`..heldout.direction_p`, or the improvement test :func:`..heldout.improvement_p`
     for a material size the sampling could have made (:func:`sampling_caution`; package docstring, test
     (a)).  A fit without a sampling bound (a pair fitted jointly, the friction refit) and a size not
-    material (which (b) does not name) take the direction test.  ``tested=False`` skips it (``p_value``
-    stays 1): an effect added in the forward selection is tested against the effects it extends instead
-    (:func:`.selection._addition`), which sets ``p_value``, and the first noise pass
-    (:func:`.verdict.ranked_fits`) needs only the order.
+    material (which (b) does not name) take the direction test.  The same test with its statistic scaled
+    by the larger of |delta| and the cluster-robust scale over the held-out cycles
+    (:func:`..heldout._correction`) is ``p_cycles``: reported, not judged (package docstring, test (a)).
+    ``tested=False`` skips both (``p_value`` stays 1, ``p_cycles`` None): an effect added in the forward
+    selection is tested against the effects it extends instead (:func:`.selection._addition`), which
+    sets ``p_value``, and the first noise pass (:func:`.verdict.ranked_fits`) needs only the order.
     """
     f = fit(sc, effect, sc.base) if fitted is None else fitted
     s_after = sc.cycle_sse(f.model)
@@ -165,19 +171,23 @@ def evaluate(sc: Scorer, effect: Effect, s_before: np.ndarray, gap_before: float
     ef.sampling = sampling_bound(effect, f)
     ef.floor = tolerance.floor(effect.name, sc.model.park_half_band)
     if tested:
-        ef.p_value = against_tolerance_p(ef, sc.z(base_without_own(sc, effect), sc.split.heldout))
+        h = sc.split.heldout
+        z_before = sc.z(base_without_own(sc, effect), h)
+        ef.p_value = against_tolerance_p(ef, z_before)
+        ef.p_cycles = against_tolerance_p(ef, z_before, sc.row_cycles(h))
     ef.share = sc.unexplained_share(f.model)
     ef.contribution = contribution(sc, effect, f.theta)
     return ef
 
 
-def against_tolerance_p(ef: EffectFit, z_before: np.ndarray) -> float:
+def against_tolerance_p(ef: EffectFit, z_before: np.ndarray, clusters: np.ndarray | None = None) -> float:
     """Test (a) of ``ef`` against the twin within its tolerance W_E, whose held-out normalised residual is
     ``z_before`` (:func:`base_without_own`): the improvement test :func:`..heldout.improvement_p` for a
-    material size the sampling could have made (:func:`sampling_caution`; its statistic U = V - |delta| / 2
-    asks more of the correction than that the held-out residual lies along it), the direction test
-    :func:`..heldout.direction_p` otherwise."""
-    return (improvement_p if sampling_caution(ef) else direction_p)(z_before, ef.z_heldout)
+    material size the sampling could have made (:func:`sampling_caution`; its statistic
+    U = V - |delta|^2 / (2 scale) asks more of the correction than that the held-out residual lies along
+    it), the direction test :func:`..heldout.direction_p` otherwise; either scaled over the held-out
+    cycle of each row, ``clusters`` (:meth:`.scorer.Scorer.row_cycles`; None: independent rows)."""
+    return (improvement_p if sampling_caution(ef) else direction_p)(z_before, ef.z_heldout, clusters)
 
 
 def extend(sc: Scorer, first: EffectFit, second: Effect, s_before: np.ndarray,

@@ -229,10 +229,11 @@ class Scorer:
         return mask
 
     def rows(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
-        """Indices into all rows (torque then force, every block) of the masked blocks of ``channels``."""
+        """Indices into all rows (torque then force, every block) of the masked blocks of ``channels``, in
+        the order of :meth:`z_raw`'s rows."""
         n = self.model.blocks.size
         return np.concatenate([np.flatnonzero(self.valid(mask, ch)) + CHANNELS.index(ch) * n
-                               for ch in channels])
+                               for ch in CHANNELS if ch in channels])
 
     def z_raw(self, aug: Augment, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
         """Normalised residuals of the masked blocks, torque rows then force rows (of ``channels``)."""
@@ -264,8 +265,10 @@ class Scorer:
         return np.concatenate(parts)
 
     def row_cycles(self, mask: np.ndarray, channels: tuple[str, ...] = CHANNELS) -> np.ndarray:
+        """The brake cycle of each row of :meth:`z_raw` (torque rows then force rows, whatever the order of
+        ``channels``)."""
         c = self.model.blocks.cycle
-        return np.concatenate([c[self.valid(mask, ch)] for ch in channels])
+        return np.concatenate([c[self.valid(mask, ch)] for ch in CHANNELS if ch in channels])
 
     def gap_mask(self) -> np.ndarray:
         """Held-out rows (torque then force) the gap uses: torque rows of blocks at rest are left out."""
