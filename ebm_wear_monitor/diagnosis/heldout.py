@@ -39,17 +39,17 @@ def _correction(z_before: np.ndarray, z_after: np.ndarray,
     there the estimate is unbiased, and under "absent" (z_after = noise - delta) conservative on average.
     The floor keeps the estimate's own scatter over few cycles from making the test more liberal than
     with independent rows (as Knapp and Hartung's max(1, q)).  Compared with N(0, 1) over 10 held-out
-    cycles the test stays liberal where the cycles share error along delta (about 2.5 times the
+    cycles the test stays liberal where the cycles share error along delta (about 3 times the
     nominal 0.05 / 8 at a shared error of 0.6 noise per cycle, against about 30 times with |delta|;
     ``test_diagnosis_ranking.py``); Student's t with one degree less than the cycles would hold the
-    level and lose a sixth of the power at |delta| = 4 with independent rows (README, "The held-out
-    test's statistic")."""
+    level and lose a sixth of the power at |delta| = 4 with independent rows (README, "The cycles'
+    scale of the held-out test")."""
     delta = z_before - z_after
     norm = float(np.sqrt(np.sum(delta * delta)))
+    if clusters is not None and len(clusters) != len(delta):
+        raise ValueError(f"{len(clusters)} cycle labels for {len(delta)} held-out rows")
     if clusters is None or norm == 0.0:
         return delta, norm
-    if len(clusters) != len(delta):
-        raise ValueError(f"{len(clusters)} cycle labels for {len(delta)} held-out rows")
     _, c = np.unique(clusters, return_inverse=True)
     per_cycle = np.bincount(c, weights=z_after * delta)
     return delta, max(norm, float(np.sqrt(np.sum(per_cycle * per_cycle))))

@@ -291,17 +291,19 @@ def _sampling_words(ranking: Ranking) -> str:
 
 
 def _independence_words(ranking: Ranking) -> str:
-    """For a named effect, as fitted alone, whose held-out test passes only with independent held-out rows
-    (``p_cycles`` at or above the level: :func:`.report.effect_note`), that caution in plain words."""
-    alone = {f.effect.name: f for f in ranking.fits}
-    words = [f"the {f.effect.name.replace('_', ' ')} (p = {f.p_cycles:.2g})" for f in
-             (alone.get(g.effect.name) for g in ranking.selected)
-             if f is not None and f.p_cycles is not None and f.p_value < ranking.alpha <= f.p_cycles]
+    """For the named effect that its own test (a) named at the ranking's level (the first of the forward
+    selection, as fitted alone: the same object in ``ranking.fits``) and that passes it only with
+    independent held-out rows (:meth:`.ranking.effect_fit.EffectFit.rests_on_independent_rows`), that
+    caution in plain words.  An effect added to others, or named in a pair, or chosen again given the
+    second, was named by the additions' or the pair's test, which is not computed over the applications'
+    scatter: no caution (README, "The cycles' scale of the held-out test")."""
+    words = [f"the {f.effect.name.replace('_', ' ')} (p = {f.p_cycles:.2g})" for f in ranking.selected
+             if any(f is g for g in ranking.fits) and f.rests_on_independent_rows(ranking.alpha)]
     if not words:
         return ""
     return (f" Caution: with the scatter of the brake applications themselves rather than of independent "
             f"samples, the held-out test of {' and '.join(words)} is not significant at the level "
-            f"{ranking.alpha:.2g} (README, \"The held-out test's statistic\").")
+            f"{ranking.alpha:.2g} (README, \"The cycles' scale of the held-out test\").")
 
 
 def size_words(f: EffectFit, size: float, *, meaning: bool = True) -> str:

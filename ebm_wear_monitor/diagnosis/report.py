@@ -162,13 +162,13 @@ NUISANCE_WORDS = {
 }
 
 
-def effect_note(f: EffectFit, alpha: float = 0.0) -> str:
-    """Why a fit that looks large is not named, in words: it drifts, or it ended on a limit: a physical one,
-    or zero for an effect that only grows (the data want the opposite of what it names).  And when its
-    held-out test passes at ``alpha`` only with independent rows (``p_cycles`` at or above ``alpha``):
-    its evidence rests on that assumption."""
+def effect_note(f: EffectFit, *, alpha: float) -> str:
+    """What to know about a fit beyond its numbers, in words: it drifts, or it ended on a limit (a physical
+    one, or zero for an effect that only grows: the data want the opposite of what it names), or its
+    held-out test passes at ``alpha`` only with independent rows
+    (:meth:`.ranking.effect_fit.EffectFit.rests_on_independent_rows`)."""
     notes = ["drifts within the recording"] if f.drifting else []
-    if f.p_cycles is not None and f.p_value < alpha <= f.p_cycles:
+    if f.rests_on_independent_rows(alpha):
         notes.append(f"significant only if the held-out samples are independent: with the brake "
                      f"applications' own scatter p = {f.p_cycles:.2g}")
     if f.at_limit:
@@ -186,7 +186,7 @@ def unit_context(u: UnitDiagnosis, sc: Scorer, ranking: Ranking) -> dict:
                 "material": "yes" if f.material else "no",
                 "sampling": "—" if f.sampling is None else f"± {size_words(f, f.sampling, meaning=False)}",
                 "p": f"{f.p_value:.2g}", "shrink": f"{100 * f.shrink:.0f} %",
-                "note": effect_note(f, ranking.alpha)}
+                "note": effect_note(f, alpha=ranking.alpha)}
                for f in ranking.fits]
     nuisances = [(NUISANCE_WORDS.get(k, k), _quantity(v.value, v.std, v.unit))
                  for k, v in res.nuisances.items()]

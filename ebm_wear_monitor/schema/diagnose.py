@@ -112,7 +112,7 @@ class RankingEntry(Record):
     p_value_cycles: float | None = quantity(
         "-", "the same test with its statistic scaled by the larger of its independent-row scale and the "
         "cluster-robust one over the held-out brake cycles (rows of one application share model error): "
-        "reported, not judged; null for an effect added to others", json="p_value_cycles")
+        "reported, not judged; null when not tested", json="p_value_cycles")
     k: int = quantity("-", "number of fitted parameters", json="k")
     material: bool = quantity("", "its size exceeds its floor with 95 % confidence", json="material")
     at_limit: bool = quantity("", "a parameter ended on its limit: a physical one (a dissipation or the "

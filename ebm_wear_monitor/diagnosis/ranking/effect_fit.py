@@ -50,6 +50,11 @@ class EffectFit:
     def drifting(self) -> bool:
         return self.drift is not None and self.drift.drifting
 
+    def rests_on_independent_rows(self, level: float) -> bool:
+        """Its test (a) passes at ``level`` only with independent held-out rows: over the brake applications'
+        own scatter (``p_cycles``) it does not."""
+        return self.p_cycles is not None and self.p_value < level <= self.p_cycles
+
     @property
     def augment(self) -> Augment:
         return self.model.aug
