@@ -50,8 +50,7 @@ def _correction(z_before: np.ndarray, z_after: np.ndarray,
         raise ValueError(f"{len(clusters)} cycle labels for {len(delta)} held-out rows")
     if clusters is None or norm == 0.0:
         return delta, norm
-    _, c = np.unique(clusters, return_inverse=True)
-    per_cycle = np.bincount(c, weights=z_after * delta)
+    per_cycle = _cluster_sums(z_after * delta, clusters)
     return delta, max(norm, float(np.sqrt(np.sum(per_cycle * per_cycle))))
 
 
@@ -107,12 +106,18 @@ def cluster_covariance(J: np.ndarray, z: np.ndarray, clusters: np.ndarray) -> np
     """Cluster-robust (sandwich) covariance of the least-squares coefficients of ``z`` on the columns of
     ``J`` with residual ``z`` at the fit: (J'J)^-1 (sum_c J_c' z_c z_c' J_c) (J'J)^-1, ``clusters`` the
     cluster label of each row (the brake cycle: neighbouring blocks of one application share model error)."""
-    _, c = np.unique(clusters, return_inverse=True)
     bread = np.linalg.pinv(J.T @ J)
-    scores = np.zeros((int(c.max()) + 1, J.shape[1]))  # per-cluster score vectors J_c' z_c
-    np.add.at(scores, c, J * z[:, None])
+    scores = _cluster_sums(J * z[:, None], clusters)  # per-cluster score vectors J_c' z_c
     cov: np.ndarray = bread @ (scores.T @ scores) @ bread
     return cov
+
+
+def _cluster_sums(x: np.ndarray, clusters: np.ndarray) -> np.ndarray:
+    """The rows of ``x`` summed per cluster label (one row per distinct label, in sorted label order)."""
+    _, c = np.unique(clusters, return_inverse=True)
+    sums = np.zeros((int(c.max()) + 1, *x.shape[1:]))
+    np.add.at(sums, c, x)
+    return sums
 
 
 def tie_p(z_a: np.ndarray, z_b: np.ndarray) -> float:

@@ -781,6 +781,29 @@ def test_a_real_refit_with_the_worst_signs_moves_the_size_by_the_sampling_bound(
     assert sizes[1] - sizes[0] == pytest.approx(bound, rel=0.05)
 
 
+def test_held_out_rows_are_labelled_with_their_cycles_in_z_raw_order():
+    """Each held-out row's label (Scorer.row_cycles, the clusters of the cycles' scale) is its block's cycle:
+    z_raw's rows are rows() of all rows (torque then force, every block), and so are the labels, whatever
+    the order the channels are named in, also where the two channels' rows differ."""
+    sc, _ = scorer(Augment(dB=3e-3), seed=1, rate=250.0)
+    h, every = sc.split.heldout, np.tile(sc.model.blocks.cycle, 2)
+    cycles = sc.row_cycles(h)
+    assert np.array_equal(sc.z_raw(sc.base.aug, h), sc.z_all(sc.base.aug)[sc.rows(h)])
+    for order in (("torque", "force"), ("force", "torque")):
+        assert np.array_equal(sc.rows(h, order), sc.rows(h))
+        assert np.array_equal(sc.row_cycles(h, order), every[sc.rows(h, order)])
+        assert np.array_equal(sc.row_cycles(h, order), cycles)
+    # with one cycle's force rows left out (an application not released) the two channels' labels differ
+    left_out = int(cycles[0])
+    unreleased = types.SimpleNamespace(model=sc.model, valid=lambda mask, ch: mask & (
+        sc.model.blocks.cycle != left_out) if ch == "force" else mask)  # the scorer with that application
+    labels = Scorer.row_cycles(unreleased, h)  # type: ignore[arg-type]
+    reverse = ("force", "torque")
+    assert labels.size < cycles.size
+    assert np.array_equal(Scorer.row_cycles(unreleased, h, reverse), labels)  # type: ignore[arg-type]
+    assert np.array_equal(labels, every[Scorer.rows(unreleased, h, reverse)])  # type: ignore[arg-type]
+
+
 def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_any_other_by_the_direction(
         monkeypatch):
     """evaluate()'s test (a) against W_E, on a material drag (B + 3e-3 N m s/rad, 1.7 B) fitted for real on a
@@ -810,23 +833,6 @@ def test_a_size_the_sampling_could_have_made_is_tested_by_the_improvement_and_an
     evaluate(sc, effect, *before)
     assert len(seen) == 2 and seen[0] is None and seen[1] is not None
     assert np.array_equal(seen[1], cycles) and seen[1].size == zb.size
-    # each held-out row's label is its block's cycle: z_raw's rows are rows() of all rows (torque then
-    # force, every block), and so are the labels, whatever the order the channels are named in
-    h, every = sc.split.heldout, np.tile(sc.model.blocks.cycle, 2)
-    assert np.array_equal(sc.z_raw(sc.base.aug, h), sc.z_all(sc.base.aug)[sc.rows(h)])
-    for order in (("torque", "force"), ("force", "torque")):
-        assert np.array_equal(sc.rows(h, order), sc.rows(h))
-        assert np.array_equal(sc.row_cycles(h, order), every[sc.rows(h, order)])
-        assert np.array_equal(sc.row_cycles(h, order), cycles)
-    # with one cycle's force rows left out (an application not released) the two channels' labels differ
-    left_out = int(cycles[0])
-    unreleased = types.SimpleNamespace(model=sc.model, valid=lambda mask, ch: mask & (
-        sc.model.blocks.cycle != left_out) if ch == "force" else mask)  # the scorer with that application
-    labels = Scorer.row_cycles(unreleased, h)  # type: ignore[arg-type]
-    reverse = ("force", "torque")
-    assert labels.size < cycles.size
-    assert np.array_equal(Scorer.row_cycles(unreleased, h, reverse), labels)  # type: ignore[arg-type]
-    assert np.array_equal(labels, every[Scorer.rows(unreleased, h, reverse)])  # type: ignore[arg-type]
     monkeypatch.setattr(effect_fit, "direction_p", direction_p)
     monkeypatch.setattr(effect_fit, "sampling_bound", lambda *_: 1.01 * margin)  # the same fit, cautioned
     cautioned_fit = evaluate(sc, effect, *before)

@@ -81,8 +81,8 @@ with S the held-out sum of z^2 and k the effect's parameter count.
     is reported beside it (``p_value_cycles``; the report notes a pass that rests on independent rows)
     and not judged: as the verdict's test it removed two foreign and two in-world false positives, all
     on draws seen before, and on the draws registered blind for it (``full_ac``, ``outside_ab``,
-    third-world seed 28) it removed none and lost a true Stribeck fall and an ``unexplained`` ripple
-    (README, "The held-out test's statistic").
+    third-world seeds 28 and 29) it removed none and lost a true Stribeck fall and an ``unexplained``
+    ripple (README, "The cycles' scale of the held-out test").
     (A goodness-of-fit test of the before model where the effect acts was tried as a second guard:
     against the twin within its tolerance it rejected a +100 % viscous change on the twin's own data; the
     practical test (b) is the guard against significant but immaterial structure.  Weighted Bonferroni
