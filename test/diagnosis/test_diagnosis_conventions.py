@@ -40,6 +40,23 @@ def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():
     assert f[25] == pytest.approx(12.0 / (h * h * 7 * 48), rel=1e-9)
 
 
+def test_the_angle_noise_is_never_below_the_encoders_count():
+    # a noise-free 13-bit encoder on the motor at 2 kHz advances a few counts a sample; more than half of its
+    # second differences are exactly 0 and their MAD is 0 (1e-16 rad before the count's floor), yet each
+    # speed is off by the count's rounding: the noise the model carries for the speed must be the one it
+    # has, against the true speed (the synth's noise-free velocity), not zero
+    count = 2.0 * np.pi / (2**13 * NOM.gear_ratio)
+    rec = synth(NOM, cycles=8, rate=2000.0, seed=1, angle_quantum=count,
+                noise={"angle": 0.0, "velocity": 0.0, "axial_force": 30.0, "current": 0.03})
+    model = residual_model(rec, NOM)
+    conv = model.conv
+    assert conv.sigma_angle == pytest.approx(count / math.sqrt(12.0), rel=1e-6)  # the floor is what binds
+    moving = model.moving
+    actual = np.sqrt(np.mean((conv.speed[moving] - rec.velocity[moving]) ** 2))
+    carried = np.sqrt(np.mean(conv.sigma_angle**2 * conv.speed_factor[moving]))
+    assert 0.7 < actual / carried < 1.5, (actual, carried)
+
+
 @pytest.mark.parametrize("rate", [200.0, 500.0, 1000.0, 2000.0])
 def test_an_acceleration_step_biases_the_speed_by_at_most_dA_h_over_4(rate):
     """The bound behind the unresolved-transient torque (residuals._unresolved_torque): a step dA of the
