@@ -25,10 +25,13 @@ regression, var(b) = sigma_theta^2 [(X'X)^-1]_bb per sample.  sigma_theta is the
 while moving, 1.4826 MAD of the angle's second differences / sqrt(6) (:mod:`.noise`), and never less
 than the encoder's own quantisation noise q / sqrt(12), q its count (:func:`.noise.quantum`, the rule
 :func:`.noise.signal_noise` applies to every raw signal): a noise-free encoder that advances a few counts
-a sample repeats its increments, and when more than half of its second differences are exactly zero
-the MAD is zero while the quantisation noise is not (a 12-bit encoder on the motor at 2 kHz read
-1.7e-14 rad against q / sqrt(12) = 8.8e-5 rad, every speed noiseless, and the healthy unit
-``unexplained``: README, "The encoder's count in the angle noise").  The recorded
+a sample repeats its increments, about half of its second differences are zero (to rounding), and
+when more than half are the MAD is zero while the quantisation noise is not (a 12-bit encoder on the
+motor at 2 kHz read 1.7e-14 rad against q / sqrt(12) = 8.8e-5 rad, every speed noiseless, and the
+healthy unit ``unexplained``: README, "The encoder's count in the angle noise").  Where the MAD does
+not collapse it reads such an encoder at about 2.1 q / sqrt(12) (second differences of 0 and +-q), which
+of the two a recording gets being close to chance; the MAD is kept there (on the safe side; a trimmed
+RMS as in :func:`.noise.signal_noise` would be consistent, but would move every recording).  The recorded
 velocity is not used by the model; its lag d and gain g against the angle speed,
 v_rec(t) = g w(t - d), are estimated (least squares over moving samples) and
 reported.

@@ -41,20 +41,27 @@ def test_local_slope_is_exact_for_a_quadratic_on_jittered_stamps():
 
 
 def test_the_angle_noise_is_never_below_the_encoders_count():
-    # a noise-free 13-bit encoder on the motor at 2 kHz advances a few counts a sample; more than half of its
-    # second differences are exactly 0 and their MAD is 0 (1e-16 rad before the count's floor), yet each
-    # speed is off by the count's rounding: the noise the model carries for the speed must be the one it
-    # has, against the true speed (the synth's noise-free velocity), not zero
+    # a noise-free 13-bit encoder on the motor at 2 kHz advances a few counts a sample; about half of its
+    # second differences are zero (to rounding), so whether their MAD collapses is near a coin flip: it
+    # does for seed 1 (1e-16 rad before the count's floor), not for seeds 2 and 3 (about 2.1 q / sqrt(12)).
+    # Each speed is off by the count's rounding either way: the noise the model carries for the speed must
+    # not fall below the one it has, against the true speed (the synth's noise-free velocity)
     count = 2.0 * np.pi / (2**13 * NOM.gear_ratio)
-    rec = synth(NOM, cycles=8, rate=2000.0, seed=1, angle_quantum=count,
-                noise={"angle": 0.0, "velocity": 0.0, "axial_force": 30.0, "current": 0.03})
-    model = residual_model(rec, NOM)
-    conv = model.conv
-    assert conv.sigma_angle == pytest.approx(count / math.sqrt(12.0), rel=1e-6)  # the floor is what binds
-    moving = model.moving
-    actual = np.sqrt(np.mean((conv.speed[moving] - rec.velocity[moving]) ** 2))
-    carried = np.sqrt(np.mean(conv.sigma_angle**2 * conv.speed_factor[moving]))
-    assert 0.7 < actual / carried < 1.5, (actual, carried)
+    floor_bound = []
+    for seed in (1, 2, 3):
+        rec = synth(NOM, cycles=8, rate=2000.0, seed=seed, angle_quantum=count,
+                    noise={"angle": 0.0, "velocity": 0.0, "axial_force": 30.0, "current": 0.03})
+        model = residual_model(rec, NOM)
+        conv = model.conv
+        assert conv.sigma_angle >= count / math.sqrt(12.0) * (1.0 - 1e-9)
+        floor_bound.append(conv.sigma_angle == pytest.approx(count / math.sqrt(12.0), rel=1e-6))
+        moving = model.moving
+        actual = np.sqrt(np.mean((conv.speed[moving] - rec.velocity[moving]) ** 2))
+        carried = np.sqrt(np.mean(conv.sigma_angle**2 * conv.speed_factor[moving]))
+        assert actual / carried < 1.5, (seed, actual, carried)
+        if floor_bound[-1]:  # the count's noise is the speed's: neither far above nor below it
+            assert actual / carried > 0.7, (seed, actual, carried)
+    assert floor_bound == [True, False, False]  # the case this test is about is among the seeds
 
 
 @pytest.mark.parametrize("rate", [200.0, 500.0, 1000.0, 2000.0])
