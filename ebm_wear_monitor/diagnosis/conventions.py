@@ -212,8 +212,9 @@ def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WI
     sigma_w = signal_noise(speed)
     moving = np.abs(speed) > 5.0 * max(sigma_w, 1e-12)
     d2 = np.diff(rec.angle, 2)[moving[1:-1]]
+    count = quantum(rec.angle)  # the encoder's count (smallest step of the angle) [rad]
     # white noise of the angle while moving, never below its count's (module docstring)
-    sigma_angle = max(mad_sigma(d2) / np.sqrt(6.0), quantum(rec.angle) / np.sqrt(12.0))
+    sigma_angle = max(mad_sigma(d2) / np.sqrt(6.0), count / np.sqrt(12.0))
     rest_n = max(5, round(REST_WINDOW_S / rec.dt))
     settle = max(3, round(SETTLE_S / rec.dt))
     rest, rest_sd, tare, tare_sd = (np.full(seg.n_cycles, np.nan) for _ in range(4))
@@ -245,6 +246,7 @@ def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WI
         "force_tare_spread_N": Estimate(spread(tare), 0.0, "N"),
         "applications_not_released": Estimate(float(np.sum(~released)), 0.0, "-"),
         "angle_noise_rad": Estimate(sigma_angle, 0.0, "rad"),
+        "angle_count_rad": Estimate(count, 0.0, "rad"),
     }
     band = park_half_band(rest, released)
     if band is not None:

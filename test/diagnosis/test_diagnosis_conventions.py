@@ -54,6 +54,7 @@ def test_the_angle_noise_is_never_below_the_encoders_count():
         model = residual_model(rec, NOM)
         conv = model.conv
         assert conv.sigma_angle >= count / math.sqrt(12.0) * (1.0 - 1e-9)
+        assert conv.estimates["angle_count_rad"].value == pytest.approx(count, rel=1e-6)  # reported
         floor_bound.append(conv.sigma_angle == pytest.approx(count / math.sqrt(12.0), rel=1e-6))
         moving = model.moving
         actual = np.sqrt(np.mean((conv.speed[moving] - rec.velocity[moving]) ** 2))
