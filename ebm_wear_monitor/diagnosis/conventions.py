@@ -134,6 +134,7 @@ class Conventions:
     tare_std: np.ndarray  # its standard deviation [N]
     released: np.ndarray  # bool per application: the pads were open before it (module docstring)
     park_half_band: float  # half-band of the released rests, 0 unless estimated (module docstring) [rad]
+    angle_count: float  # the encoder's count, the smallest step of the angle (module docstring) [rad]
     estimates: dict[str, Estimate]  # the reported nuisances
 
     def per_sample(self, seg: Segmentation) -> tuple[np.ndarray, np.ndarray]:
@@ -255,4 +256,4 @@ def estimate_conventions(rec: Resampled, seg: Segmentation, window_s: float = WI
     for name in SIGNALS:
         est[f"{name}_rate_Hz"] = Estimate(1.0 / rec.interval(name), 0.0, "Hz")
     return Conventions(speed, factor, sigma_angle, rest, rest_sd, tare, tare_sd, released,
-                       0.0 if band is None else band.value, est)
+                       0.0 if band is None else band.value, count, est)

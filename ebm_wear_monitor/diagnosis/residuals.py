@@ -88,7 +88,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from ebm_wear_monitor.diagnosis.conventions import Conventions
-from ebm_wear_monitor.diagnosis.noise import quantum, signal_noise
+from ebm_wear_monitor.diagnosis.noise import signal_noise
 from ebm_wear_monitor.diagnosis.phases import Segmentation
 from ebm_wear_monitor.diagnosis.recording import Resampled
 from ebm_wear_monitor.diagnosis.speed import window_half
@@ -404,7 +404,7 @@ class ResidualModel:
         rec, b, n = self.rec, self.blocks, self.nominal
         dtheta = np.diff(rec.angle)
         adt = np.abs(dtheta)
-        count = quantum(rec.angle)
+        count = self.conv.angle_count
         bound = max(3.0 * math.sqrt(2.0) * self.conv.sigma_angle, 1.01 * count)
         moving_interval = self.moving[1:] | self.moving[:-1]
         cum = lambda y: np.concatenate(([0.0], np.cumsum(y)))  # noqa: E731
