@@ -346,7 +346,8 @@ DRAWS = {"full": (2000, 4000, "none_"), "full_b": (7000, 8000, "none_b"), "full_
          "full_aa": (93000, 94000, "none_aa"),
          "full_ab": (96000, 97000, "none_ab"),
          "full_ac": (99000, 100000, "none_ac"),
-         "full_ad": (102000, 103000, "none_ad")}  # "none_q" is the quick set's prefix, hence "none_q2"
+         "full_ad": (102000, 103000, "none_ad"),
+         "full_ae": (105000, 106000, "none_ae")}  # "none_q" is the quick set's prefix, hence "none_q2"
 #: the outside-catalog draws: name -> seed of its cases (10 cases per effect outside the catalog)
 OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outside_d": 23000,
                  "outside_e": 26000, "outside_f": 32000, "outside_g": 38000,
@@ -357,7 +358,7 @@ OUTSIDE_DRAWS = {"outside": 11000, "outside_b": 13000, "outside_c": 15000, "outs
                  "outside_t": 77000, "outside_u": 80000, "outside_v": 83000,
                  "outside_w": 86000, "outside_x": 89000, "outside_y": 92000,
                  "outside_z": 95000, "outside_aa": 98000,
-                 "outside_ab": 101000, "outside_ac": 104000}
+                 "outside_ab": 101000, "outside_ac": 104000, "outside_ad": 107000}
 OUTSIDE_PER_KIND = 10
 #: the diagnosis case sets (:func:`case_set`): the quick set, the full set's draws, the outside draws
 DIAGNOSIS_SETS = ("quick", *DRAWS, *OUTSIDE_DRAWS)
@@ -438,6 +439,9 @@ def case_set(name: str) -> list[Case]:
     cluster-robust scale of the held-out test tried after it (README).  ``full_ad`` (seeds 102000 and
     103000) and ``outside_ac`` (from 104000): registered on top of 98a77b3 before any run, with
     third-world seeds 30 and 31, for the encoder-count floor of the angle noise tried after it (README).
+    ``full_ae`` (seeds 105000 and 106000) and ``outside_ad`` (from 107000): registered on top of b488191
+    before any run, with third-world seeds 32 and 33, for the two-path (force-travel hysteresis) test tried
+    after it (README).
     ``multirate``: 6 recordings with angle and
     velocity at 2 kHz, force at 1 kHz, current at 500 Hz, namespace /train5/car3/embu2, log lag up to
     1.6 ms (3 no-effect, 3 with one catalog effect).  Unknown names raise ``ValueError``.
