@@ -54,6 +54,7 @@ from ebm_wear_monitor.schema.diagnose import (
     DiagnosisResult,
     Estimate,
     FrictionRefit,
+    HysteresisTest,
     LostMotionTest,
     PositionTorque,
     RestTorqueTest,
@@ -218,6 +219,16 @@ def summary(ranking: Ranking) -> str:
                 "or a current sensor out of its class. No known effect scales the motor torque: an effect "
                 "outside the catalog is likely."
                 + _ripple(o))
+    hy = ranking.hysteresis
+    if hy is not None and ranking.hysteresis_decided:
+        return (f"Below about {hy.split / 1e3:.1f} kN the release reaches each force "
+                f"{1e6 * hy.step:.1f} ± {1e6 * hy.step_std:.1f} µm of nut travel earlier than the apply did, "
+                f"beyond what the force reading's lag ({1e3 * hy.lag:.1f} ms) explains, in "
+                f"{hy.applications} held-out applications; above it the two agree. 004 eq. 5 has one "
+                "force-travel path both ways: the motor turned back through a lost motion of that width "
+                "while the pads still pressed (a play between motor and screw with the angle measured on the "
+                "motor side, taken up when the clamp force no longer back-drives the screw), not a wider "
+                "clearance. No known effect does that: an effect outside the catalog is likely.")
     r = ranking.rest
     if r is not None and ranking.rest_decided:
         model = _model_words(ranking)
@@ -405,6 +416,7 @@ def _diagnose(rec: Resampled, unit: UnitParams, block_s: float) -> tuple[Diagnos
         torque_scale=scale_report(ranking),
         rest_torque=rest_report(ranking),
         lost_motion=play_report(ranking),
+        hysteresis=hysteresis_report(ranking),
         sampling_caution=tuple(cautioned(ranking)),
     ), sc, ranking)
 
@@ -441,3 +453,12 @@ def play_report(ranking: Ranking) -> LostMotionTest | None:
         return None
     return LostMotionTest(m.crossings, m.travel, m.deficit, m.deficit_std, m.budget, m.floor, m.p_value,
                           ranking.play_decided)
+
+
+def hysteresis_report(ranking: Ranking) -> HysteresisTest | None:
+    """The two-path test of the recording (:mod:`.hysteresis`), as reported."""
+    h = ranking.hysteresis
+    if h is None:
+        return None
+    return HysteresisTest(h.applications, h.split, h.step, h.step_std, h.lag, h.floor, h.p_value,
+                          ranking.hysteresis_decided)

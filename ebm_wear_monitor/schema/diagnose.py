@@ -225,6 +225,26 @@ class RestTorqueTest(Record):
 
 
 @dataclass(frozen=True)
+class HysteresisTest(Record):
+    """Apply and release on two force-travel paths below a force (diagnosis/hysteresis.py)."""
+
+    applications: int = quantity("", "held-out applications with force levels on both sides of the split",
+                                 json="applications")
+    split_N: float = quantity("N", "force below which the step is measured (chosen on the calibration "
+                              "applications)", json="split_N")
+    step_m: float = quantity("m", "mean step of the apply-minus-release nut travel at equal force below the "
+                             "split against above it, the force reading's lag taken out (a play crossed in "
+                             "contact: its width)", json="step_m")
+    step_std_m: float = quantity("m", "standard error of that mean", json="step_std_m")
+    lag_s: float = quantity("s", "lag of the force reading behind the angle fitted on the calibration "
+                            "applications", json="lag_s")
+    floor_m: float = quantity("m", "materiality bound: the thermal part of the clearance's tolerance",
+                              json="floor_m")
+    p_value: float = quantity("-", "one-sided t test of the mean step against zero", json="p_value")
+    decided: bool = quantity("", "it turned the verdict into unexplained", json="decided")
+
+
+@dataclass(frozen=True)
 class LostMotionTest(Record):
     """Friction over the extra clearance of the verdict's model in the release (diagnosis/play.py)."""
 
@@ -320,6 +340,10 @@ class DiagnosisResult(Record):
     lost_motion: LostMotionTest | None = quantity(
         "", "friction over the extra clearance of the verdict's model: a play or a clearance (null: not "
         "tested, the verdict's effects hold no clearance growth)", json="lost_motion", default=None)
+    hysteresis: HysteresisTest | None = quantity(
+        "", "apply and release on two force-travel paths below a force: a play crossed in contact with the "
+        "angle on the motor side (null: not made, the verdict already unexplained or too few applications)",
+        json="hysteresis", default=None)
     sampling_caution: tuple[str, ...] = quantity(
         "", "named effects whose size, fitted alone, the transients the sampling does not resolve could take "
         "under its floor at the worst (ranking's size.sampling above size - 1.645 std - floor): a caution, "

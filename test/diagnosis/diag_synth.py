@@ -32,9 +32,9 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
           seed: int = 0, noise: dict | None = None, forces: tuple[float, float] = (8e3, 30e3),
           durations: tuple[float, float] = (0.15, 0.35), force_offset: float = 0.0,
           drive_gain: float = 0.0, dG_drift: float = 0.0, play: float = 0.0,
-          play_share: float = 0.6, angle_side: str = "screw", rest_pulse: float = 0.0, creep: float = 0.0,
-          creep_friction: float = 1.0, angle_quantum: float = 0.0,
-          parks: np.ndarray | None = None) -> Resampled:
+          play_share: float = 0.6, play_force: float = 0.0, angle_side: str = "screw",
+          rest_pulse: float = 0.0, creep: float = 0.0, creep_friction: float = 1.0,
+          angle_quantum: float = 0.0, parks: np.ndarray | None = None) -> Resampled:
     """A recording of ``cycles`` brake applications with effect ``aug`` present in the data.
 
     ``force_offset`` [N] is a tare of the force reading; ``drive_gain`` a relative loss of the motor's
@@ -48,6 +48,9 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     out of contact, and stays put in between, where the motor carries its inertia and only the share
     ``1 - play_share`` of the no-load friction (Coulomb and viscous). ``angle_side="motor"`` records the
     angle and the velocity on the motor side of the play instead (the travel the motor makes).
+    ``play_force`` [N]: the clamp pushes the screw back onto the forward flank only while its force exceeds
+    this (the friction downstream of the play holds the screw below it); there the screw stops, in contact,
+    and the motor turns back through the play without it and without its load torque.
 
     ``rest_pulse`` [N m]: in every idle a half sine of motor torque of this peak that the recorded screw
     does not feel (a motor turning inside a play, the angle on the screw): the drive at rest alone, the
@@ -92,7 +95,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     x_c = nom.clamp.clearance + aug.clearance  # nut travel at contact [m]
     x_motor, coupled = x, np.ones(x.size, bool)
     if play > 0.0:
-        x, coupled = _through_play(x_motor, play, x_c)
+        x, coupled = _through_play(x_motor, play, x_c + play_force / nom.clamp.stiffness)
     w_m = nom.gear_ratio * k * xd  # the motor's speed [rad/s]
     d = np.maximum(x - x_c, 0.0)  # pad compression [m]
     F_true = nom.clamp.stiffness * d + aug.stiffness_quad * d**2  # 004 eq. 5 (+ k_2 d^2)
@@ -107,7 +110,7 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
     T_f = np.where(coupled, T_f, (1.0 - play_share) * np.sign(w_m) * (law.coulomb + law.viscous * speed))
     T_f = np.where(hold, creep_friction * T_f, T_f)
     T_f = np.where(speed > 1e-3, T_f, 0.0)
-    current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L + T_f + pulse)  # 004 eq. 1, 7
+    current = ((nom.inertia * nom.gear_ratio * k * xdd + T_L * coupled + T_f + pulse)  # 004 eq. 1, 7
                / (nom.torque_constant * (1.0 - drive_gain)))
     force_meas = (1.0 + aug.force_gain) * F_true + force_offset  # sensor gain and tare
     on_motor = play == 0.0 or angle_side == "motor"
@@ -121,7 +124,8 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
 
 
 def _through_play(x_motor: np.ndarray, play: float, x_c: float) -> tuple[np.ndarray, np.ndarray]:
-    """(screw travel [m], whether a flank is engaged) behind a play ``play`` [m] (:func:`synth`)."""
+    """(screw travel [m], whether a flank is engaged) behind a play ``play`` [m] (:func:`synth`); the clamp
+    pushes the screw back onto the forward flank down to the travel ``x_c`` [m]."""
     x = np.empty_like(x_motor)
     coupled = np.ones(x.size, bool)
     s = 0.0

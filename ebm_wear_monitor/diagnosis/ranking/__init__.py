@@ -156,7 +156,12 @@ explaining model's held-out error than its effects removed turns ``effect`` into
 (:mod:`..scale`): when the verdict's model uses the budget's +-2 % on K_T x current gain up to its bound
 and the held-out torque wants significantly more, beyond the bound with 95 % confidence, every term
 of eq. 1 is read through a scale no catalog effect changes (a torque-constant loss, a current sensor
-out of its class), and ``effect`` or ``none`` becomes ``unexplained``.  Last, the band test at rest
+out of its class), and ``effect`` or ``none`` becomes ``unexplained``.  Then, whatever the model, the
+recording's force-travel paths (:mod:`..hysteresis`): when, below some force, the release reaches each
+force significantly and materially (5 um with 95 % confidence) earlier in travel than the apply, beyond
+what the force reading's lag explains, the motor-side angle crossed a play in contact, which 004 eq. 5's
+single force-travel path cannot make, and ``effect`` or ``none`` becomes ``unexplained``.  Last, the band
+test at rest
 (:mod:`..stick`): when the verdict's model (the selected effects, or the twin within its tolerance)
 cannot hold the drive the recording shows at rest within 004 eq. 9's breakaway band, in
 significantly many held-out applications and by a material torque, the motor turned where the angle

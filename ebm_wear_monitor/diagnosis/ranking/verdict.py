@@ -1,7 +1,7 @@
 """The ranking of the single effects and the verdict (the package docstring's "Verdict", "Parsimony" and
 the near-tie flags; the tie test is :func:`.effect_fit.tie_p`, the separating experiment
 :func:`.experiment.separating_experiment`), with the open-set, scale, rest and lost-motion tests of the
-verdict's model.
+verdict's model and the recording's force-travel paths (:mod:`..hysteresis`).
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ import numpy as np
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import Effect
+from ebm_wear_monitor.diagnosis.hysteresis import Hysteresis, hysteresis
 from ebm_wear_monitor.diagnosis.openset import HARMONICS, Periodic, periodic_structure
 from ebm_wear_monitor.diagnosis.play import LostMotion, lost_motion
 from ebm_wear_monitor.diagnosis.ranking.criteria import ALPHA, SHRINK_NEEDED, TIE_ALPHA, material_channels
@@ -30,7 +31,7 @@ OPEN_SET_LEVEL = ALPHA / HARMONICS
 
 class OpenSetTest(Protocol):
     """A test that turns a verdict into ``unexplained`` when it counts (:mod:`..scale`, :mod:`..stick`,
-    :mod:`..play`)."""
+    :mod:`..play`, :mod:`..hysteresis`)."""
 
     def counts(self, level: float) -> bool: ...
 
@@ -79,6 +80,8 @@ class Ranking:
     rest: RestTorque | None = None
     #: the friction over the extra clearance of the verdict's model (:mod:`..play`; None: not tested)
     play: LostMotion | None = None
+    #: the step of the apply-release travel difference below a force (:mod:`..hysteresis`; None: not made)
+    hysteresis: Hysteresis | None = None
 
     @property
     def scale_decided(self) -> bool:
@@ -94,6 +97,11 @@ class Ranking:
     def play_decided(self) -> bool:
         """The lost-motion test turned the verdict into ``unexplained`` (it runs only on ``effect``)."""
         return decides(self.play)
+
+    @property
+    def hysteresis_decided(self) -> bool:
+        """The two-path test turned the verdict into ``unexplained`` (it decides only on another verdict)."""
+        return decides(self.hysteresis)
 
     @property
     def top(self) -> EffectFit:
@@ -174,6 +182,9 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     drive_scale = motor_scale(sc, verdict_model, explaining) if verdict != "unexplained" else None
     if decides(drive_scale):
         verdict = "unexplained"
+    two_paths = hysteresis(sc.model, sc.split.heldout_cycles) if verdict != "unexplained" else None
+    if decides(two_paths):
+        verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
                        sc.split.heldout) if verdict != "unexplained" else None
     if decides(rest):
@@ -184,7 +195,7 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     best = max((1.0 - max((f.share[ch] / share[ch] for ch in material), default=0.0)) for f in candidates) \
         if material else 1.0
     return Ranking(fits, selected, joint, best, gap_before, sc.gap(sc.base), share, verdict, level, open_set,
-                   drive_scale, rest, play)
+                   drive_scale, rest, play, two_paths)
 
 
 def motor_scale(sc: Scorer, m: Model, f: EffectFit | None = None) -> TorqueScale | None:

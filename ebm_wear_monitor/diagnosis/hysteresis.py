@@ -1,0 +1,179 @@
+"""Lost motion taken up in contact: apply and release on two paths of force against travel (issue 10 item 4).
+
+004 eq. 5 gives the clamp force as one function of the nut travel, F = K_b (x - x_ag), the same on the way in
+and on the way out: a brake application and its release pass through the same (x, F) points.  What a
+recording may show besides is timing only: a force reading that lags the angle by tau (a sensor's low pass,
+a stamp skew) is read at a travel tau |dx/dt| further along the motion, so at a force level F the apply
+reaches it a little further in and the release a little further out,
+
+    h(F) = x_apply(F) - x_release(F) = c + tau (|v_apply(F)| + |v_release(F)|)     [m]
+
+with v the nut speed at that crossing (004 eq. 4) and c a constant of the application (0 under eq. 5).
+
+**A play with the angle on the motor side.**  In an apply the motor pushes the screw on one flank of the
+play; in the release the clamp force back-drives the screw, which keeps pressing on the same flank while the
+load torque l F / (2 pi i_g) exceeds the friction downstream of the play (004 eq. 1, 9).  Below that force
+the screw stops under its own friction, the motor turns back through the play alone, and the release
+continues on the other flank: below a force F_s the release reaches each force 2b (the play, in nut travel)
+earlier in travel than the apply did, above F_s not.  h(F) steps up by 2b below F_s, which no timing and no
+effect of the catalog makes (every one of them keeps one force-travel path: a stiffness, a clearance, a
+sensor gain or tare move both ways alike).  Where the friction downstream is small, F_s is near zero and the
+play is crossed after the pads let go, which this test cannot see (the lost-motion test of :mod:`.play`
+asks the torque channel there); with the angle on the screw side the play is not in the angle at all
+(:mod:`.stick`).
+
+**Statistic.**  At ``N_LEVELS`` force levels, geometric from the segmentation's contact threshold (or five
+times the force noise, the larger) to 80 % of the median peak force, every application gives h at each level
+both its apply (last upward crossing before the peak) and its release (first downward crossing after it)
+reach, the travel interpolated linearly between samples and the speed taken from the angle's own
+derivative (:mod:`.conventions`).  On the calibration applications h is regressed, within each application
+(its c removed), on the summed speed and on the indicator of the levels below a split, for every split with
+at least ``MIN_SIDE`` levels each side; the split whose step has the largest t statistic is kept with its
+tau.  On each held-out application the step is then
+
+    D = mean_{F_k < split} (h - tau S) - mean_{F_k >= split} (h - tau S)       [m],   S = |v_a| + |v_r|
+
+and its mean over the held-out applications is tested against zero with Student's t (one-sided: a play
+makes D > 0).  The split and tau come from the calibration applications only, so the held-out D are
+independent of that choice.
+
+**Materiality.**  The step must exceed, with 95 % confidence, the thermal part of the clearance's tolerance
+(:data:`.tolerance.THERMAL_CLEARANCE`, 5 um): the budget has no entry for a second path, since no
+tolerance of it makes one, and a lost motion the clearance's own tolerance would hide is not worth a
+verdict.  Decided, ``effect`` or ``none`` becomes ``unexplained``.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+from ebm_wear_monitor.diagnosis.heldout import exceeds
+from ebm_wear_monitor.diagnosis.noise import signal_noise
+from ebm_wear_monitor.diagnosis.residuals import ResidualModel
+from ebm_wear_monitor.diagnosis.tolerance import THERMAL_CLEARANCE
+
+#: force levels at which apply and release are compared [-]
+N_LEVELS = 12
+#: fewest levels on each side of the split [-]
+MIN_SIDE = 2
+#: fewest applications of each half with a level on both sides of the split [-]
+MIN_APPLICATIONS = 4
+#: highest level as a share of the median peak force [-]
+TOP_SHARE = 0.8
+
+
+@dataclass(frozen=True)
+class Hysteresis:
+    """The step of the apply-release travel difference below a force (module docstring)."""
+
+    applications: int  # held-out applications with levels on both sides of the split
+    split: float  # force below which the step is measured [N]
+    step: float  # mean D over the held-out applications [m]
+    step_std: float  # its standard error [m]
+    lag: float  # tau of the calibration fit [s]
+    floor: float  # materiality bound [m]
+    p_value: float  # one-sided t test of the mean step against zero
+
+    def counts(self, level: float) -> bool:
+        """Significant at ``level`` and material with 95 % confidence (module docstring)."""
+        material = exceeds(self.step, self.step_std, self.floor, dof=self.applications - 1)
+        return self.p_value < level and material
+
+
+def _crossing(x: np.ndarray, f: np.ndarray, v: np.ndarray, level: float, rising: bool) -> tuple[float, float]:
+    """(travel, |speed|) where ``f`` first crosses ``level`` (rising: the last upward crossing), or NaNs."""
+    lo, hi = (f[:-1] < level) & (f[1:] >= level), (f[:-1] >= level) & (f[1:] < level)
+    at = np.flatnonzero(lo if rising else hi)
+    if at.size == 0:
+        return np.nan, np.nan
+    i = at[-1] if rising else at[0]
+    w = (level - f[i]) / (f[i + 1] - f[i])
+    return x[i] + w * (x[i + 1] - x[i]), abs(v[i] + w * (v[i + 1] - v[i]))
+
+
+def level_differences(model: ResidualModel, levels: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(cycles, h, S): per application and force level the apply-minus-release travel h [m] and the summed
+    speed S [m/s] of the module docstring (NaN where a level is not crossed both ways)."""
+    cycle = model.seg.cycle
+    v = model.nominal.nut_travel(model.conv.speed)
+    cycles = np.unique(cycle[cycle >= 0])
+    h = np.full((cycles.size, levels.size), np.nan)
+    s = np.full_like(h, np.nan)
+    for n, c in enumerate(cycles):
+        idx = np.flatnonzero(cycle == c)
+        x, f, vc = model.x[idx], model.force[idx], v[idx]
+        peak = int(np.argmax(f))
+        for k, level in enumerate(levels):
+            xa, va = _crossing(x[:peak + 1], f[:peak + 1], vc[:peak + 1], level, rising=True)
+            xr, vr = _crossing(x[peak:], f[peak:], vc[peak:], level, rising=False)
+            h[n, k], s[n, k] = xa - xr, va + vr
+    return cycles, h, s
+
+
+def _levels(model: ResidualModel) -> np.ndarray | None:
+    """The geometric force levels of the module docstring [N], None when the forces span too little."""
+    cycle = model.seg.cycle
+    peaks = [model.force[cycle == c].max() for c in np.unique(cycle[cycle >= 0])]
+    lo = max(float(model.seg.force_rise), 5.0 * signal_noise(model.force))
+    hi = TOP_SHARE * float(np.median(peaks)) if peaks else 0.0
+    return np.geomspace(lo, hi, N_LEVELS) if hi > 2.0 * lo > 0.0 else None
+
+
+def _step(h: np.ndarray, s: np.ndarray, m: int, lag: float) -> np.ndarray:
+    """D per application for the split after level ``m`` and the lag ``lag`` (NaN without both sides)."""
+    r = h - lag * s
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an application without one side: NaN
+        step: np.ndarray = np.nanmean(r[:, :m], axis=1) - np.nanmean(r[:, m:], axis=1)
+    return step
+
+
+def _calibrate(h: np.ndarray, s: np.ndarray) -> tuple[int, float] | None:
+    """The split (levels below it) and lag whose within-application fit gives the step the largest t."""
+    ok = np.isfinite(h) & np.isfinite(s)
+    best: tuple[float, int, float] | None = None
+    for m in range(MIN_SIDE, h.shape[1] - MIN_SIDE + 1):
+        low = np.broadcast_to(np.arange(h.shape[1]) < m, h.shape)
+        cols = [np.where(ok, a, 0.0) for a in (h, s, low.astype(float))]
+        count = ok.sum(axis=1, keepdims=True)
+        keep = (count[:, 0] >= 2) & (ok & low).any(axis=1) & (ok & ~low).any(axis=1)
+        if keep.sum() < MIN_APPLICATIONS:
+            continue
+        y, sx, ix = ((a - a.sum(axis=1, keepdims=True) / np.maximum(count, 1))[keep][ok[keep]] for a in cols)
+        X = np.column_stack([sx, ix])
+        coef, _, rank, _ = np.linalg.lstsq(X, y, rcond=None)
+        dof = y.size - 2 - int(keep.sum())
+        if rank < 2 or dof < 1:
+            continue
+        sigma2 = float(np.sum((y - X @ coef) ** 2)) / dof
+        se = np.sqrt(sigma2 * np.linalg.inv(X.T @ X)[1, 1])
+        t = coef[1] / se if se > 0.0 else 0.0
+        if best is None or t > best[0]:
+            best = (float(t), m, float(coef[0]))
+    return None if best is None else (best[1], best[2])
+
+
+def hysteresis(model: ResidualModel, heldout_cycles: np.ndarray) -> Hysteresis | None:
+    """The test of the module docstring; None when the forces span too little or too few applications
+    have levels on both sides of the split."""
+    levels = _levels(model)
+    if levels is None:
+        return None
+    cycles, h, s = level_differences(model, levels)
+    held = np.isin(cycles, heldout_cycles)
+    fit = _calibrate(h[~held], s[~held])
+    if fit is None:
+        return None
+    m, lag = fit
+    d = _step(h[held], s[held], m, lag)
+    d = d[np.isfinite(d)]
+    n = d.size
+    if n < MIN_APPLICATIONS:
+        return None
+    mean, se = float(d.mean()), float(d.std(ddof=1) / np.sqrt(n))
+    p_value = float(stats.t.sf(mean / se, n - 1)) if se > 0.0 else float(mean <= 0.0)
+    return Hysteresis(n, float(np.sqrt(levels[m - 1] * levels[m])), mean, se, lag, THERMAL_CLEARANCE, p_value)
