@@ -124,8 +124,9 @@ def synth(nom: ActuatorModel, aug: Augment | None = None, *, cycles: int = 8, ra
 
 
 def _through_play(x_motor: np.ndarray, play: float, x_c: float) -> tuple[np.ndarray, np.ndarray]:
-    """(screw travel [m], whether a flank is engaged) behind a play ``play`` [m] (:func:`synth`); the clamp
-    pushes the screw back onto the forward flank down to the travel ``x_c`` [m]."""
+    """(screw travel [m], whether a flank is engaged: false while the motor turns and the screw stays)
+    behind a play ``play`` [m] (:func:`synth`); the clamp pushes the screw back onto the forward flank down
+    to the travel ``x_c`` [m]."""
     x = np.empty_like(x_motor)
     coupled = np.ones(x.size, bool)
     s = 0.0
@@ -138,6 +139,6 @@ def _through_play(x_motor: np.ndarray, play: float, x_c: float) -> tuple[np.ndar
             s_new = xm
         else:
             s_new = s
-        coupled[i] = s_new != s or i == 0
+        coupled[i] = s_new != s or i == 0 or xm == x_motor[i - 1]
         x[i] = s = s_new
     return x, coupled
