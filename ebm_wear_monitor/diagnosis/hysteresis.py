@@ -2,49 +2,65 @@
 
 004 eq. 5 gives the clamp force as one function of the nut travel, F = K_b (x - x_ag), the same on the way in
 and on the way out: a brake application and its release pass through the same (x, F) points.  What a
-recording may show besides is timing only: a force reading that lags the angle by tau (a sensor's low pass,
-a stamp skew) is read at a travel tau |dx/dt| further along the motion, so at a force level F the apply
-reaches it a little further in and the release a little further out,
+recording shows besides is the force reading's timing: read s_F late through a first-order lag tau_F (the
+``force_skew`` and ``force_lag`` every model fits, :mod:`.residuals`), the apply reaches a force level a
+little further in and the release a little further out, and after the pads let go the lag's tail holds
+the low levels longer still.  So the test compares the recording with the model, not with zero: at a
+force level F, per application,
 
-    h(F) = x_apply(F) - x_release(F) = c + tau (|v_apply(F)| + |v_release(F)|)     [m]
+    h(F) = [x_apply(F) - x_release(F)]_recorded - [x_apply(F) - x_release(F)]_model     [m]
 
-with v the nut speed at that crossing (004 eq. 4) and c a constant of the application (0 under eq. 5).
+the second term from the force reading the model (the verdict's, with its fitted skew and lag) predicts on
+the same samples of the same nut travel (004 eq. 4).  What a lag of another form leaves is first order in
+the speed, h = c + tau (|v_apply(F)| + |v_release(F)|) with tau the residual lag and c a constant of the
+application (both 0 when the model's timing is the recording's).
 
 **A play with the angle on the motor side.**  In an apply the motor pushes the screw on one flank of the
 play; in the release the clamp force back-drives the screw, which keeps pressing on the same flank while the
 load torque l F / (2 pi i_g) exceeds the friction downstream of the play (004 eq. 1, 9).  Below that force
 the screw stops under its own friction, the motor turns back through the play alone, and the release
 continues on the other flank: below a force F_s the release reaches each force 2b (the play, in nut travel)
-earlier in travel than the apply did, above F_s not.  h(F) steps up by 2b below F_s, which no timing and no
+closer to rest than the apply did, above F_s not.  h(F) steps up by 2b below F_s, which no timing and no
 effect of the catalog makes (every one of them keeps one force-travel path: a stiffness, a clearance, a
 sensor gain or tare move both ways alike).  Where the friction downstream is small, F_s is near zero and the
 play is crossed after the pads let go, which this test cannot see (the lost-motion test of :mod:`.play`
 asks the torque channel there); with the angle on the screw side the play is not in the angle at all
-(:mod:`.stick`).
+(:mod:`.stick`).  Not in any of the catalog's effects either, but not a play: a hysteresis of the pads
+(viscoelastic) or of the load cell that grows with the force also puts the release on a second path,
+and can make a positive step; the summary names the play as what makes such a step, not as proven.
 
 **Statistic.**  At ``N_LEVELS`` force levels, geometric from the segmentation's contact threshold (or five
-times the force noise, the larger) to 80 % of the median peak force, every application gives h at each level
-both its apply (last upward crossing before the peak) and its release (first downward crossing after it)
-reach, the travel interpolated linearly between samples and the speed taken from the angle's own
+force noises, the larger) to ``TOP_SHARE`` of the median peak force, every application gives h where both
+its apply (the last upward crossing before its peak) and its release (the first downward crossing after it)
+reach the level, the travel interpolated linearly between the two samples around the crossing, both of them
+in contact (above ``IN_CONTACT`` of the threshold: a chord across the contact kink is flatter than the
+spring, and at 200 Hz it alone made steps of about 5 um), and the speed taken from the angle's own
 derivative (:mod:`.conventions`).  On the calibration applications h is regressed, within each application
 (its c removed), on the summed speed and on the indicator of the levels below a split, for every split with
-at least ``MIN_SIDE`` levels each side; the split whose step has the largest t statistic is kept with its
-tau.  On each held-out application the step is then
+at least ``MIN_SIDE`` levels each side (the step alone where the speed does not vary within the
+applications); the split whose step has the largest t statistic is kept with its tau.  On each held-out
+application the step is then
 
     D = mean_{F_k < split} (h - tau S) - mean_{F_k >= split} (h - tau S)       [m],   S = |v_a| + |v_r|
 
 and its mean over the held-out applications is tested against zero with Student's t (one-sided: a play
 makes D > 0).  The split and tau come from the calibration applications only, so the held-out D are
-independent of that choice.
+independent of that choice; tau's own error, common to them, is left out of the standard error (about a
+sixth of it in a review's simulation), so the p-value is somewhat liberal and the floor decides.
 
 **Materiality.**  The step must exceed, with 95 % confidence, the thermal part of the clearance's tolerance
 (:data:`.tolerance.THERMAL_CLEARANCE`, 5 um): the budget has no entry for a second path, since no
 tolerance of it makes one, and a lost motion the clearance's own tolerance would hide is not worth a
 verdict.  Decided, ``effect`` or ``none`` becomes ``unexplained``.
+
+**Level.**  It runs at ``ALPHA`` beside the screw-position harmonic, the motor torque's scale, the band
+test at rest and the lost-motion test (:mod:`.ranking`); the materiality condition decides in practice
+(on the third world's 54 plays the step was significant at p < 1e-10).
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -53,7 +69,7 @@ from scipy import stats
 
 from ebm_wear_monitor.diagnosis.heldout import exceeds
 from ebm_wear_monitor.diagnosis.noise import signal_noise
-from ebm_wear_monitor.diagnosis.residuals import ResidualModel
+from ebm_wear_monitor.diagnosis.residuals import Augment, ResidualModel
 from ebm_wear_monitor.diagnosis.tolerance import THERMAL_CLEARANCE
 
 #: force levels at which apply and release are compared [-]
@@ -64,6 +80,8 @@ MIN_SIDE = 2
 MIN_APPLICATIONS = 4
 #: highest level as a share of the median peak force [-]
 TOP_SHARE = 0.8
+#: share of the contact threshold both samples around a crossing must exceed (in contact) [-]
+IN_CONTACT = 0.5
 
 
 @dataclass(frozen=True)
@@ -84,33 +102,50 @@ class Hysteresis:
         return self.p_value < level and material
 
 
-def _crossing(x: np.ndarray, f: np.ndarray, v: np.ndarray, level: float, rising: bool) -> tuple[float, float]:
-    """(travel, |speed|) where ``f`` first crosses ``level`` (rising: the last upward crossing), or NaNs."""
+def _crossing(x: np.ndarray, f: np.ndarray, v: np.ndarray, level: float, *, rising: bool,
+              contact: float) -> tuple[float, float]:
+    """(travel [m], |speed| [m/s]) where the force ``f`` [N] crosses ``level`` [N]: the last upward crossing
+    (``rising``) or the first downward one, interpolated linearly between its two samples; NaNs where there
+    is none or where one of the two samples lies below ``contact`` [N] (the chord across the contact kink
+    is flatter than the spring)."""
     lo, hi = (f[:-1] < level) & (f[1:] >= level), (f[:-1] >= level) & (f[1:] < level)
     at = np.flatnonzero(lo if rising else hi)
     if at.size == 0:
         return np.nan, np.nan
     i = at[-1] if rising else at[0]
+    if min(f[i], f[i + 1]) < contact:
+        return np.nan, np.nan
     w = (level - f[i]) / (f[i + 1] - f[i])
     return x[i] + w * (x[i + 1] - x[i]), abs(v[i] + w * (v[i + 1] - v[i]))
 
 
-def level_differences(model: ResidualModel, levels: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(cycles, h, S): per application and force level the apply-minus-release travel h [m] and the summed
-    speed S [m/s] of the module docstring (NaN where a level is not crossed both ways)."""
+def _travel_difference(x: np.ndarray, f: np.ndarray, v: np.ndarray, level: float,
+                       contact: float) -> tuple[float, float]:
+    """(x_apply - x_release [m], |v_apply| + |v_release| [m/s]) of one application at ``level`` [N]."""
+    peak = int(np.argmax(f))
+    xa, va = _crossing(x[:peak + 1], f[:peak + 1], v[:peak + 1], level, rising=True, contact=contact)
+    xr, vr = _crossing(x[peak:], f[peak:], v[peak:], level, rising=False, contact=contact)
+    return xa - xr, va + vr
+
+
+def level_differences(model: ResidualModel, aug: Augment, levels: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(cycles, h, S): per application and force level the recording's apply-minus-release travel minus
+    the one the model ``aug`` predicts on the same samples, h [m], and the recording's summed speed S [m/s]
+    (module docstring; NaN where a level is not crossed both ways in contact)."""
     cycle = model.seg.cycle
     v = model.nominal.nut_travel(model.conv.speed)
+    predicted = model.force_model(aug)
+    contact = IN_CONTACT * float(model.seg.force_rise)
     cycles = np.unique(cycle[cycle >= 0])
     h = np.full((cycles.size, levels.size), np.nan)
     s = np.full_like(h, np.nan)
     for n, c in enumerate(cycles):
         idx = np.flatnonzero(cycle == c)
-        x, f, vc = model.x[idx], model.force[idx], v[idx]
-        peak = int(np.argmax(f))
+        x, vc = model.x[idx], v[idx]
         for k, level in enumerate(levels):
-            xa, va = _crossing(x[:peak + 1], f[:peak + 1], vc[:peak + 1], level, rising=True)
-            xr, vr = _crossing(x[peak:], f[peak:], vc[peak:], level, rising=False)
-            h[n, k], s[n, k] = xa - xr, va + vr
+            h_rec, s[n, k] = _travel_difference(x, model.force[idx], vc, level, contact)
+            h[n, k] = h_rec - _travel_difference(x, predicted[idx], vc, level, contact)[0]
     return cycles, h, s
 
 
@@ -146,24 +181,28 @@ def _calibrate(h: np.ndarray, s: np.ndarray) -> tuple[int, float] | None:
         y, sx, ix = ((a - a.sum(axis=1, keepdims=True) / np.maximum(count, 1))[keep][ok[keep]] for a in cols)
         X = np.column_stack([sx, ix])
         coef, _, rank, _ = np.linalg.lstsq(X, y, rcond=None)
-        dof = y.size - 2 - int(keep.sum())
-        if rank < 2 or dof < 1:
+        if rank < 2:  # the speed does not vary within the applications: the lag cancels in D
+            X = ix[:, None]
+            coef, _, rank, _ = np.linalg.lstsq(X, y, rcond=None)
+        dof = y.size - X.shape[1] - int(keep.sum())
+        if rank < X.shape[1] or dof < 1:
             continue
         sigma2 = float(np.sum((y - X @ coef) ** 2)) / dof
-        se = np.sqrt(sigma2 * np.linalg.inv(X.T @ X)[1, 1])
-        t = coef[1] / se if se > 0.0 else 0.0
+        se = float(np.sqrt(sigma2 * np.linalg.inv(X.T @ X)[-1, -1]))
+        t = coef[-1] / se if se > 0.0 else math.copysign(math.inf, coef[-1])
         if best is None or t > best[0]:
-            best = (float(t), m, float(coef[0]))
+            best = (float(t), m, float(coef[0]) if X.shape[1] == 2 else 0.0)
     return None if best is None else (best[1], best[2])
 
 
-def hysteresis(model: ResidualModel, heldout_cycles: np.ndarray) -> Hysteresis | None:
-    """The test of the module docstring; None when the forces span too little or too few applications
-    have levels on both sides of the split."""
+def hysteresis(model: ResidualModel, aug: Augment, heldout_cycles: np.ndarray) -> Hysteresis | None:
+    """The test of the module docstring against the model ``aug`` (its force timing: skew, lag) on the
+    applications ``heldout_cycles``; None when the forces span too little or too few applications have
+    levels on both sides of the split."""
     levels = _levels(model)
     if levels is None:
         return None
-    cycles, h, s = level_differences(model, levels)
+    cycles, h, s = level_differences(model, aug, levels)
     held = np.isin(cycles, heldout_cycles)
     fit = _calibrate(h[~held], s[~held])
     if fit is None:

@@ -222,13 +222,14 @@ def summary(ranking: Ranking) -> str:
     hy = ranking.hysteresis
     if hy is not None and ranking.hysteresis_decided:
         return (f"Below about {hy.split / 1e3:.1f} kN the release reaches each force "
-                f"{1e6 * hy.step:.1f} ± {1e6 * hy.step_std:.1f} µm of nut travel earlier than the apply did, "
-                f"beyond what the force reading's lag ({1e3 * hy.lag:.1f} ms) explains, in "
-                f"{hy.applications} held-out applications; above it the two agree. 004 eq. 5 has one "
-                "force-travel path both ways: the motor turned back through a lost motion of that width "
-                "while the pads still pressed (a play between motor and screw with the angle measured on the "
-                "motor side, taken up when the clamp force no longer back-drives the screw), not a wider "
-                "clearance. No known effect does that: an effect outside the catalog is likely.")
+                f"{1e6 * hy.step:.1f} ± {1e6 * hy.step_std:.1f} µm of nut travel closer to rest than the "
+                f"apply did, beyond what the force reading's timing explains, in {hy.applications} held-out "
+                "applications; above it the two agree. 004 eq. 5 has one force-travel path both ways, and no "
+                "known effect makes a second: a play between motor and screw with the angle measured on the "
+                "motor side, which the motor turns back through while the pads still press (the clamp force "
+                "no longer back-drives the screw), makes this step, of the play's width; a hysteresis of the "
+                "pads or the load cell growing with the force could make one too. An effect outside the "
+                "catalog is likely.")
     r = ranking.rest
     if r is not None and ranking.rest_decided:
         model = _model_words(ranking)

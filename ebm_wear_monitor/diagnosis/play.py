@@ -78,9 +78,10 @@ the next window of their length*: on four foreign plays +0.31 ± 0.02, +0.34 ± 
 -0.14 ± 0.01 N m, a contrast of both signs from the release's own motion at that rate, so a clearance
 could read either way too.
 
-**Level.**  The test runs at ``ALPHA`` beside the screw-position harmonic, the motor torque's scale
-and the band test at rest (:mod:`.ranking`), so on a clearance-growth verdict the four routes to
-``unexplained`` together may reach about three times ``ALPHA``; the materiality conditions decide in
+**Level.**  The test runs at ``ALPHA`` beside the screw-position harmonic, the motor torque's scale,
+the two force-travel paths (:mod:`.hysteresis`) and the band test at rest (:mod:`.ranking`), so on a
+clearance-growth verdict the five routes to ``unexplained`` together may reach about four times
+``ALPHA``; the materiality conditions decide in
 practice (a play's deficit was significant at p ≤ 1e-4 on every foreign play where the test decided;
 the two 200 Hz catalog pairs of "Reach" at p ≤ 0.0012).
 """

@@ -232,12 +232,13 @@ class HysteresisTest(Record):
                                  json="applications")
     split_N: float = quantity("N", "force below which the step is measured (chosen on the calibration "
                               "applications)", json="split_N")
-    step_m: float = quantity("m", "mean step of the apply-minus-release nut travel at equal force below the "
-                             "split against above it, the force reading's lag taken out (a play crossed in "
-                             "contact: its width)", json="step_m")
+    step_m: float = quantity("m", "mean step, below the split against above it, of the apply-minus-release "
+                             "nut travel at equal force beyond the verdict model's (its force skew and lag) "
+                             "and the residual lag's share (a play taken up in contact: its width)",
+                             json="step_m")
     step_std_m: float = quantity("m", "standard error of that mean", json="step_std_m")
-    lag_s: float = quantity("s", "lag of the force reading behind the angle fitted on the calibration "
-                            "applications", json="lag_s")
+    lag_s: float = quantity("s", "residual lag of the force reading beyond the verdict model's skew and lag, "
+                            "fitted on the calibration applications", json="lag_s")
     floor_m: float = quantity("m", "materiality bound: the thermal part of the clearance's tolerance",
                               json="floor_m")
     p_value: float = quantity("-", "one-sided t test of the mean step against zero", json="p_value")
@@ -342,7 +343,8 @@ class DiagnosisResult(Record):
         "tested, the verdict's effects hold no clearance growth)", json="lost_motion", default=None)
     hysteresis: HysteresisTest | None = quantity(
         "", "apply and release on two force-travel paths below a force: a play crossed in contact with the "
-        "angle on the motor side (null: not made, the verdict already unexplained or too few applications)",
+        "angle on the motor side (null: not made, the verdict already unexplained by an earlier test, the "
+        "forces spanning too little, or too few applications with levels on both sides of the split)",
         json="hysteresis", default=None)
     sampling_caution: tuple[str, ...] = quantity(
         "", "named effects whose size, fitted alone, the transients the sampling does not resolve could take "

@@ -182,7 +182,8 @@ def rank(sc: Scorer, catalog: dict[str, Effect]) -> Ranking:
     drive_scale = motor_scale(sc, verdict_model, explaining) if verdict != "unexplained" else None
     if decides(drive_scale):
         verdict = "unexplained"
-    two_paths = hysteresis(sc.model, sc.split.heldout_cycles) if verdict != "unexplained" else None
+    unsettled = verdict != "unexplained"
+    two_paths = hysteresis(sc.model, verdict_model.aug, sc.split.heldout_cycles) if unsettled else None
     if decides(two_paths):
         verdict = "unexplained"
     rest = rest_torque(sc.model, verdict_model.aug, sc.sigma_torque, sc.split.calibration,
