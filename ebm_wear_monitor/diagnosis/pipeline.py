@@ -227,9 +227,9 @@ def summary(ranking: Ranking) -> str:
                 "applications; above it the two agree. 004 eq. 5 has one force-travel path both ways, and no "
                 "known effect makes a second: a play between motor and screw with the angle measured on the "
                 "motor side, which the motor turns back through while the pads still press (the clamp force "
-                "no longer back-drives the screw), makes this step, of the play's width; a hysteresis of the "
-                "pads or the load cell growing with the force could make one too. An effect outside the "
-                "catalog is likely.")
+                "no longer back-drives the screw), makes such a step, up to the play's width; a hysteresis "
+                "of the pads or the load cell growing with the force could make one too. An effect outside "
+                "the catalog is likely.")
     r = ranking.rest
     if r is not None and ranking.rest_decided:
         model = _model_words(ranking)

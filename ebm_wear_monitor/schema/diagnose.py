@@ -238,7 +238,8 @@ class HysteresisTest(Record):
                              json="step_m")
     step_std_m: float = quantity("m", "standard error of that mean", json="step_std_m")
     lag_s: float = quantity("s", "residual lag of the force reading beyond the verdict model's skew and lag, "
-                            "fitted on the calibration applications", json="lag_s")
+                            "fitted on the calibration applications (0 where the speed does not vary within "
+                            "the applications and the step is fitted alone)", json="lag_s")
     floor_m: float = quantity("m", "materiality bound: the thermal part of the clearance's tolerance",
                               json="floor_m")
     p_value: float = quantity("-", "one-sided t test of the mean step against zero", json="p_value")
