@@ -27,6 +27,17 @@ def exceeds(size: float, std: float, floor: float, dof: int | None = None) -> bo
     return size - q * std > floor
 
 
+def mean_above_zero(d: np.ndarray) -> tuple[float, float, float]:
+    """(mean, standard error, p) of per-unit contrasts ``d`` (held-out applications or crossings): the
+    one-sided Student t test of mean > 0 with n - 1 degrees of freedom (p 0 or 1 by the sign when every
+    contrast is equal).  :mod:`.play` and :mod:`.hysteresis` judge their held-out contrasts by it, with
+    :func:`exceeds` at ``dof = n - 1`` for the size."""
+    n = d.size
+    mean, se = float(d.mean()), float(d.std(ddof=1) / np.sqrt(n))
+    p_value = float(stats.t.sf(mean / se, n - 1)) if se > 0.0 else float(mean <= 0.0)
+    return mean, se, p_value
+
+
 def _correction(z_before: np.ndarray, z_after: np.ndarray,
                 clusters: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """The held-out correction delta = z_before - z_after and the scale of its tests' statistics: |delta|,

@@ -91,10 +91,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
 from ebm_wear_monitor.diagnosis import tolerance
-from ebm_wear_monitor.diagnosis.heldout import exceeds
+from ebm_wear_monitor.diagnosis.heldout import exceeds, mean_above_zero
 from ebm_wear_monitor.diagnosis.residuals import Augment, ResidualModel, clamp_spring
 from ebm_wear_monitor.domain.phases import Phase
 from ebm_wear_monitor.domain.segmentation import runs
@@ -166,8 +165,7 @@ def lost_motion(model: ResidualModel, aug: Augment, heldout_cycles: np.ndarray) 
     if n < MIN_CROSSINGS:
         return None
     d = _deficits(model, aug, start, stop)
-    mean, se = float(d.mean()), float(d.std(ddof=1) / np.sqrt(n))
-    p_value = float(stats.t.sf(mean / se, n - 1)) if se > 0.0 else float(mean <= 0.0)
+    mean, se, p_value = mean_above_zero(d)
     budget = sum(abs(float(_deficits(model, a, start, stop).mean()) - mean)
                  for a in tolerance.at_bounds(aug, model.nominal, model.park_half_band))
     floor = tolerance.torque_floor(model.drive_block()[model.blocks.moving])

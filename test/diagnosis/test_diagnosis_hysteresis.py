@@ -92,7 +92,7 @@ def test_a_low_pass_force_reading_keeps_one_path_against_the_fitted_lag(seed):
     res, _, ranking = diagnose_with_state(rec, load_unit())
     assert ranking.hysteresis is not None and not ranking.hysteresis_decided, ranking.hysteresis
     assert abs(ranking.hysteresis.step) < 2e-6, ranking.hysteresis
-    assert res.verdict != "unexplained" or not res.hysteresis or not res.hysteresis.decided
+    assert res.verdict != "unexplained", res.summary  # a healthy unit with a slow load cell
 
 
 def test_a_play_taken_up_in_contact_turns_the_verdict_unexplained():

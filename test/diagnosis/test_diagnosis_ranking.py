@@ -14,7 +14,13 @@ from scipy import stats
 
 from ebm_wear_monitor.diagnosis import tolerance
 from ebm_wear_monitor.diagnosis.catalog import build_catalog, friction_refit
-from ebm_wear_monitor.diagnosis.heldout import MATERIAL_Z, direction_p, improvement_p, improvement_u
+from ebm_wear_monitor.diagnosis.heldout import (
+    MATERIAL_Z,
+    direction_p,
+    improvement_p,
+    improvement_u,
+    mean_above_zero,
+)
 from ebm_wear_monitor.diagnosis.pipeline import residual_model, summary
 from ebm_wear_monitor.diagnosis.ranking import Model, Scorer, effect_fit, rank
 from ebm_wear_monitor.diagnosis.ranking.criteria import DRIFT_ALPHA, trend_p
@@ -299,6 +305,16 @@ def test_split_alternates_and_needs_four_cycles():
     assert not np.any(s.calibration & s.heldout)
     with pytest.raises(InputError, match="at least 4"):
         split_by_cycle(np.repeat(np.arange(3), 3))
+
+
+def test_the_one_sided_mean_test_is_students():
+    # scipy's one-sample t test, written apart from it, and the sign rule where every contrast is equal
+    d = np.random.default_rng(3).normal(0.4, 1.0, 9)
+    mean, se, p = mean_above_zero(d)
+    ref = stats.ttest_1samp(d, 0.0, alternative="greater")
+    assert mean == pytest.approx(d.mean()) and se == pytest.approx(d.std(ddof=1) / 3.0)
+    assert p == pytest.approx(ref.pvalue, rel=1e-9)
+    assert mean_above_zero(np.full(5, 2.0))[2] == 0.0 and mean_above_zero(np.full(5, -2.0))[2] == 1.0
 
 
 def test_improvement_p_is_conservative_without_effect_and_small_with_one():
